@@ -1,0 +1,236 @@
+/**
+ * @file gfmd.h
+ * @brief gfmd: Green's function molecular dynamics (GFMD) for the contact between a rigid, rough
+ *        substrate and an elastic half-space or thin elastic layer.
+ *
+ * Model (Putignano, Dapp & Müser, Biomimetics 1, 7 (2016)):
+ * a periodic grid of nx x ny points on a cell lx x ly (spacing lx/nx, ly/ny) holds the rigid
+ * substrate heights h(r) and the elastic body's surface z(r) = h(r) + gap(r), gap >= 0.  A uniform
+ * external pressure sigma0 pushes the body down onto the substrate; an optional adhesive stress
+ * (gamma0/rho) exp(-gap/rho) pulls it down as well.  Elasticity acts in Fourier space: the stress
+ * of mode q is -u(q)/G(q), G(q) = 2 f(q w) / (q E*), with f = 1 for the half-space.
+ * Units are the user's: any consistent length and pressure units (E* = 1 and a = 1 are typical).
+ *
+ * @par Array layout (all fields of nx*ny values)
+ * x runs fastest.  In C a field is `double field[ny][nx]`, point (ix, iy) at index ix + nx*iy.
+ * In Fortran the same memory is `real(dp) :: field(nx, ny)`, point (ix+1, iy+1).  No transposes.
+ *
+ * @par Error model
+ * Every call that can fail returns an int32_t status, GFMD_OK (0) on success.  A failed call leaves
+ * the handle usable and its state unchanged (GFMD_ERR_NOT_CONVERGED keeps the progress made, as
+ * documented at gfmd_relax()).  The message of the last failure on a handle is kept in the handle:
+ * gfmd_last_error().  The library never aborts or exits on user input.
+ *
+ * @par Thread contract
+ * Distinct handles are independent and may be used from different threads at the same time.  One
+ * handle must be used by one thread at a time (including the const getters, which may record an
+ * error message).  FFTW planning, which is not thread-safe, is serialized inside the library.
+ */
+#ifndef GFMD_H
+#define GFMD_H
+
+#include <stdint.h>
+
+#include "gfmd/gfmd_export.h"
+#include "gfmd/gfmd_status.h"
+#include "gfmd/version.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Opaque simulation handle. */
+typedef struct gfmd_sim gfmd_sim;
+
+/** Status codes (generated from GFMD_STATUS_LIST in gfmd/gfmd_status.h). */
+enum gfmd_status_code {
+#define GFMD_X_ENUM(name, value, text) name = value,
+    GFMD_STATUS_LIST(GFMD_X_ENUM)
+#undef GFMD_X_ENUM
+    GFMD_STATUS_END_
+};
+
+/** Kinds of elastic body, for gfmd_set_green(). */
+enum gfmd_green_kind {
+    GFMD_GREEN_HALFSPACE = 0,    /**< semi-infinite body, f = 1 */
+    GFMD_GREEN_LAYER_FLUID = 1,  /**< layer of width w on a fluid (frictionless, free) foundation */
+    GFMD_GREEN_LAYER_BONDED = 2  /**< layer of width w bonded to a rigid foundation; needs nu */
+};
+
+/** Distributions of the random Fourier amplitudes, for gfmd_generate_selfaffine(). */
+enum gfmd_distribution {
+    GFMD_DIST_UNIFORM = 0,  /**< real and imaginary parts uniform (the seed paper's choice) */
+    GFMD_DIST_GAUSSIAN = 1  /**< real and imaginary parts Gaussian */
+};
+
+/* ---------------------------------------------------------------- version and status */
+
+/** Runtime version string, e.g. "0.1.0" (compare with GFMD_VERSION_STRING). */
+GFMD_API const char *gfmd_version(void);
+
+/** Static description of a status code; never NULL (unknown codes give "unknown status"). */
+GFMD_API const char *gfmd_status_string(int32_t status);
+
+/**
+ * Copy the message of the last failed call on @p s into @p buf (capacity @p len bytes).
+ * The copy is always NUL-terminated when len >= 1.  Returns GFMD_OK, or GFMD_ERR_TRUNCATED when
+ * the message did not fit (use gfmd_last_error_length()).  The message is "" after success.
+ */
+GFMD_API int32_t gfmd_last_error(const gfmd_sim *s, char *buf, int64_t len);
+
+/** Buffer size (message length + 1 for the NUL) that gfmd_last_error() needs. */
+GFMD_API int32_t gfmd_last_error_length(const gfmd_sim *s, int64_t *needed);
+
+/* ---------------------------------------------------------------- lifetime */
+
+/**
+ * Create a simulation of nx x ny points on a periodic cell lx x ly.  The body starts as a
+ * half-space with E* = 1, flat substrate h = 0, no load, no adhesion.
+ * @param out receives the handle; set to NULL on failure.
+ * @return GFMD_ERR_INVALID_ARG for non-positive or non-finite sizes, GFMD_ERR_NOMEM if the grid
+ *         does not fit in memory.
+ */
+GFMD_API int32_t gfmd_sim_create(int64_t nx, int64_t ny, double lx, double ly, gfmd_sim **out);
+
+/** Destroy the handle in *sim and set *sim = NULL.  Accepts sim == NULL and *sim == NULL. */
+GFMD_API void gfmd_sim_destroy(gfmd_sim **sim);
+
+/** Grid size and cell lengths given at creation.  Any output pointer may be NULL. */
+GFMD_API int32_t gfmd_get_grid(const gfmd_sim *s, int64_t *nx, int64_t *ny, double *lx, double *ly);
+
+/* ---------------------------------------------------------------- the elastic body */
+
+/** Contact modulus E* = E/(1 - nu^2) > 0 (default 1).  Keeps the configuration. */
+GFMD_API int32_t gfmd_set_modulus(gfmd_sim *s, double e_star);
+
+/**
+ * Choose the elastic body: GFMD_GREEN_HALFSPACE (width ignored), GFMD_GREEN_LAYER_FLUID or
+ * GFMD_GREEN_LAYER_BONDED with layer width > 0.  The bonded layer needs Poisson's ratio set first
+ * (gfmd_set_poisson), otherwise GFMD_ERR_STATE.  Keeps the current configuration.
+ */
+GFMD_API int32_t gfmd_set_green(gfmd_sim *s, int32_t kind, double width);
+
+/** Poisson's ratio, -1 < nu <= 0.5 (used by the bonded layer only).  Keeps the configuration. */
+GFMD_API int32_t gfmd_set_poisson(gfmd_sim *s, double nu);
+
+/**
+ * The dimensionless factor f(t), t = q w, of G(q) = 2 f(q w)/(q E*) for a kind of body
+ * (1 for the half-space).  Accurate to a few ulps for all t > 0: the closed forms are evaluated by
+ * series where they cancel and in exponentially scaled form where they overflow.
+ * @param nu Poisson's ratio, used by GFMD_GREEN_LAYER_BONDED only.
+ * @return GFMD_ERR_INVALID_ARG for t <= 0 or non-finite, GFMD_ERR_RANGE if f overflows
+ *         (t below about 1e-103 for the fluid foundation).
+ */
+GFMD_API int32_t gfmd_green_factor(int32_t kind, double t, double nu, double *f);
+
+/* ---------------------------------------------------------------- the substrate */
+
+/**
+ * Set the nx*ny substrate heights (x fastest), all finite.  The body is reset to flat at the
+ * highest substrate point, at rest.
+ */
+GFMD_API int32_t gfmd_set_heights(gfmd_sim *s, const double *h);
+
+/** Copy the nx*ny substrate heights into @p h. */
+GFMD_API int32_t gfmd_get_heights(const gfmd_sim *s, double *h);
+
+/**
+ * Generate a self-affine substrate: spectrum C(q) = 1 for 0 < q < q_r = 2 pi/lambda_r,
+ * (q/q_r)^(-2(1+H)) for q_r <= q <= q_s = 2 pi/lambda_s, 0 above (and on the Nyquist lines);
+ * real and imaginary parts of each Fourier amplitude drawn independently (uniform or Gaussian with
+ * equal second moment) from a portable generator seeded by @p seed, so a seed gives the same
+ * surface on every machine.  Scaled so that the spectral rms gradient sqrt(<|grad h|^2>) equals
+ * @p rms_gradient, shifted so that max h = 0.  Resets the body like gfmd_set_heights().
+ * Requires 0 <= hurst <= 1, lambda_r >= lambda_s >= 2 grid spacings, rms_gradient > 0, and at least
+ * one Fourier mode of the grid with q <= q_s.
+ */
+GFMD_API int32_t gfmd_generate_selfaffine(gfmd_sim *s, double hurst, double lambda_r, double lambda_s,
+                                          double rms_gradient, uint64_t seed, int32_t distribution);
+
+/* ---------------------------------------------------------------- loads */
+
+/** External pressure sigma0 >= 0 pushing the body onto the substrate.  Keeps the configuration. */
+GFMD_API int32_t gfmd_set_pressure(gfmd_sim *s, double sigma0);
+
+/**
+ * Adhesion: stress (gamma0/rho) exp(-gap/rho) pulling the body down; gamma0 >= 0 is the surface
+ * energy (gamma0 = 0 switches adhesion off), rho > 0 the range.  Keeps the configuration.
+ */
+GFMD_API int32_t gfmd_set_adhesion(gfmd_sim *s, double gamma0, double rho);
+
+/* ---------------------------------------------------------------- dynamics */
+
+/**
+ * Time step of the damped dynamics (unit mass per unit area).  0 (the default) chooses it from
+ * the Green's function: dt = 1/omega_max, omega_max^2 the largest stiffness (elastic + adhesive).
+ */
+GFMD_API int32_t gfmd_set_timestep(gfmd_sim *s, double dt);
+
+/**
+ * Damping rate eta >= 0 of every mode's velocity.  0 (the default) chooses it so that the slowest
+ * elastic mode is slightly underdamped: eta = 1.8 omega_min.
+ */
+GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
+
+/** The time step and damping rate in effect (automatic or user-set). Either pointer may be NULL. */
+GFMD_API int32_t gfmd_get_dynamics(const gfmd_sim *s, double *dt, double *eta);
+
+/**
+ * Advance @p nsteps >= 0 steps of the damped dynamics (Verlet in time, elastic forces in Fourier
+ * space, non-penetration z >= h enforced in real space after each step).
+ * GFMD_ERR_DIVERGED if a non-finite value appears; the state before the call is then restored.
+ */
+GFMD_API int32_t gfmd_step(gfmd_sim *s, int64_t nsteps);
+
+/** Default tolerance of gfmd_relax() (used when tol <= 0). */
+#define GFMD_DEFAULT_TOL 1e-6
+
+/**
+ * Step until the relative force residual (see gfmd_get_residual) is <= tol (tol <= 0: the
+ * default GFMD_DEFAULT_TOL), at most @p max_steps > 0 steps.  @p steps_taken (may be NULL)
+ * receives the steps made.  GFMD_ERR_NOT_CONVERGED if the limit is reached; the progress is kept
+ * so that another call continues.  GFMD_ERR_DIVERGED restores the state before the call.
+ */
+GFMD_API int32_t gfmd_relax(gfmd_sim *s, double tol, int64_t max_steps, int64_t *steps_taken);
+
+/**
+ * Relative force residual of the current configuration: the rms over all points of the net
+ * non-contact stress (elastic + adhesive - sigma0; at points in contact only its part pulling
+ * away from the substrate), divided by sigma0 + gamma0/rho (or by E* when both are zero).
+ */
+GFMD_API int32_t gfmd_get_residual(const gfmd_sim *s, double *residual);
+
+/** Put the body back to flat at the highest substrate point, at rest. */
+GFMD_API int32_t gfmd_reset(gfmd_sim *s);
+
+/* ---------------------------------------------------------------- observables */
+
+/** Relative contact area A/A0: the fraction of points whose gap is zero. */
+GFMD_API int32_t gfmd_get_contact_area(const gfmd_sim *s, double *rel_area);
+
+/** Mean gap <z - h> over the cell. */
+GFMD_API int32_t gfmd_get_mean_gap(const gfmd_sim *s, double *mean_gap);
+
+/**
+ * Elastic energy U_el = (A/2) sum_q |u(q)|^2 / G(q) and adhesive energy
+ * U_ad = integral of gamma0 exp(-gap/rho) dA (energy gained, >= 0), both for the whole cell.
+ */
+GFMD_API int32_t gfmd_get_energies(const gfmd_sim *s, double *elastic, double *adhesive);
+
+/** Gap field z - h (nx*ny, x fastest, >= 0). */
+GFMD_API int32_t gfmd_get_gap(const gfmd_sim *s, double *gap);
+
+/** Elastic body's surface z = h + gap (nx*ny, x fastest). */
+GFMD_API int32_t gfmd_get_surface(const gfmd_sim *s, double *z);
+
+/**
+ * Normal stress exerted by the substrate on the body (nx*ny): contact pressure (>= 0, at points
+ * in contact) minus the adhesive pull.  At equilibrium its mean equals sigma0.
+ */
+GFMD_API int32_t gfmd_get_pressure(const gfmd_sim *s, double *p);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* GFMD_H */

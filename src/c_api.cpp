@@ -1,0 +1,290 @@
+// The C ABI: check arguments, call the core, turn every exception into a status plus message.
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <memory>
+#include <new>
+#include <string>
+
+#include "error.hpp"
+#include "gfmd.h"
+#include "green.hpp"
+#include "simulation.hpp"
+
+struct gfmd_sim {
+    std::unique_ptr<gfmd::Simulation> sim;
+    mutable std::string last_error;
+};
+
+namespace {
+
+using gfmd::fail;
+
+void record(const gfmd_sim *s, const char *msg) noexcept {
+    try {
+        s->last_error = msg;
+    } catch (...) {
+        s->last_error.clear();  // cannot store the message: the status still says what failed
+    }
+}
+
+// Run f on a valid handle; translate exceptions.  The message of the last failure stays in the
+// handle until the next failure.
+template <class F>
+int32_t guarded(const gfmd_sim *s, F &&f) noexcept {
+    if (s == nullptr || !s->sim) return GFMD_ERR_NULL;
+    try {
+        f(*s->sim);
+        return GFMD_OK;
+    } catch (const gfmd::Error &e) {
+        record(s, e.what());
+        return e.status();
+    } catch (const std::bad_alloc &) {
+        record(s, "out of memory");
+        return GFMD_ERR_NOMEM;
+    } catch (const std::exception &e) {
+        record(s, e.what());
+        return GFMD_ERR_INTERNAL;
+    } catch (...) {
+        record(s, "unknown internal error");
+        return GFMD_ERR_INTERNAL;
+    }
+}
+
+template <class T>
+void need(const T *p, const char *name) {
+    if (p == nullptr) fail(GFMD_ERR_NULL, std::string("argument '") + name + "' is NULL");
+}
+
+constexpr double kMemoryBytesPerPoint = 64.0;  // fields + FFT scratch, see Simulation
+
+// Refuse grids that cannot fit in physical memory instead of letting the OOM killer end the
+// user's process when the pages are touched.
+bool fits_in_memory(int64_t nx, int64_t ny) {
+    const double points = static_cast<double>(nx) * static_cast<double>(ny);
+    long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+    if (pages <= 0 || page <= 0) return points < 1e12;
+    return points * kMemoryBytesPerPoint < static_cast<double>(pages) * static_cast<double>(page);
+}
+
+}  // namespace
+
+extern "C" {
+
+const char *gfmd_version(void) { return GFMD_VERSION_STRING; }
+
+const char *gfmd_status_string(int32_t status) {
+    switch (status) {
+#define GFMD_X_CASE(name, value, text) \
+    case value:                        \
+        return text;
+        GFMD_STATUS_LIST(GFMD_X_CASE)
+#undef GFMD_X_CASE
+        default:
+            return "unknown status";
+    }
+}
+
+int32_t gfmd_last_error(const gfmd_sim *s, char *buf, int64_t len) {
+    if (s == nullptr || buf == nullptr) return GFMD_ERR_NULL;
+    if (len <= 0) return GFMD_ERR_INVALID_ARG;
+    const std::string &m = s->last_error;
+    const std::size_t cap = static_cast<std::size_t>(len) - 1;
+    const std::size_t n = m.size() < cap ? m.size() : cap;
+    std::memcpy(buf, m.data(), n);
+    buf[n] = '\0';
+    return (m.size() > cap) ? GFMD_ERR_TRUNCATED : GFMD_OK;
+}
+
+int32_t gfmd_last_error_length(const gfmd_sim *s, int64_t *needed) {
+    if (s == nullptr || needed == nullptr) return GFMD_ERR_NULL;
+    *needed = static_cast<int64_t>(s->last_error.size()) + 1;
+    return GFMD_OK;
+}
+
+int32_t gfmd_sim_create(int64_t nx, int64_t ny, double lx, double ly, gfmd_sim **out) {
+    if (out == nullptr) return GFMD_ERR_NULL;
+    *out = nullptr;
+    if (nx <= 0 || ny <= 0 || nx > (INT64_C(1) << 30) || ny > (INT64_C(1) << 30)) return GFMD_ERR_INVALID_ARG;
+    if (!std::isfinite(lx) || !std::isfinite(ly) || lx <= 0.0 || ly <= 0.0) return GFMD_ERR_INVALID_ARG;
+    if (!fits_in_memory(nx, ny)) return GFMD_ERR_NOMEM;
+    try {
+        auto handle = std::make_unique<gfmd_sim>();
+        handle->sim = std::make_unique<gfmd::Simulation>(nx, ny, lx, ly);
+        *out = handle.release();
+        return GFMD_OK;
+    } catch (const gfmd::Error &e) {
+        return e.status();
+    } catch (const std::bad_alloc &) {
+        return GFMD_ERR_NOMEM;
+    } catch (...) {
+        return GFMD_ERR_INTERNAL;
+    }
+}
+
+void gfmd_sim_destroy(gfmd_sim **sim) {
+    if (sim == nullptr || *sim == nullptr) return;
+    delete *sim;
+    *sim = nullptr;
+}
+
+int32_t gfmd_get_grid(const gfmd_sim *s, int64_t *nx, int64_t *ny, double *lx, double *ly) {
+    return guarded(s, [&](const gfmd::Simulation &m) {
+        if (nx) *nx = m.grid().nx();
+        if (ny) *ny = m.grid().ny();
+        if (lx) *lx = m.grid().lx();
+        if (ly) *ly = m.grid().ly();
+    });
+}
+
+int32_t gfmd_set_modulus(gfmd_sim *s, double e_star) {
+    return guarded(s, [&](gfmd::Simulation &m) { m.set_modulus(e_star); });
+}
+
+int32_t gfmd_set_green(gfmd_sim *s, int32_t kind, double width) {
+    return guarded(s, [&](gfmd::Simulation &m) { m.set_green(kind, width); });
+}
+
+int32_t gfmd_set_poisson(gfmd_sim *s, double nu) {
+    return guarded(s, [&](gfmd::Simulation &m) { m.set_poisson(nu); });
+}
+
+int32_t gfmd_green_factor(int32_t kind, double t, double nu, double *f) {
+    if (f == nullptr) return GFMD_ERR_NULL;
+    if (kind != GFMD_GREEN_HALFSPACE && kind != GFMD_GREEN_LAYER_FLUID && kind != GFMD_GREEN_LAYER_BONDED)
+        return GFMD_ERR_BAD_ENUM;
+    if (!std::isfinite(t) || t <= 0.0) return GFMD_ERR_INVALID_ARG;
+    if (kind == GFMD_GREEN_LAYER_BONDED && (!std::isfinite(nu) || nu <= -1.0 || nu > 0.5)) return GFMD_ERR_INVALID_ARG;
+    const double v = gfmd::green_factor(kind, t, nu);
+    if (!std::isfinite(v)) return GFMD_ERR_RANGE;
+    *f = v;
+    return GFMD_OK;
+}
+
+int32_t gfmd_set_heights(gfmd_sim *s, const double *h) {
+    return guarded(s, [&](gfmd::Simulation &m) {
+        need(h, "h");
+        m.set_heights(h);
+    });
+}
+
+int32_t gfmd_get_heights(const gfmd_sim *s, double *h) {
+    return guarded(s, [&](const gfmd::Simulation &m) {
+        need(h, "h");
+        m.heights(h);
+    });
+}
+
+int32_t gfmd_generate_selfaffine(gfmd_sim *s, double hurst, double lambda_r, double lambda_s, double rms_gradient,
+                                 uint64_t seed, int32_t distribution) {
+    return guarded(s, [&](gfmd::Simulation &m) {
+        m.generate_selfaffine(gfmd::SelfAffineParams{hurst, lambda_r, lambda_s, rms_gradient, seed, distribution});
+    });
+}
+
+int32_t gfmd_set_pressure(gfmd_sim *s, double sigma0) {
+    return guarded(s, [&](gfmd::Simulation &m) { m.set_pressure(sigma0); });
+}
+
+int32_t gfmd_set_adhesion(gfmd_sim *s, double gamma0, double rho) {
+    return guarded(s, [&](gfmd::Simulation &m) { m.set_adhesion(gamma0, rho); });
+}
+
+int32_t gfmd_set_timestep(gfmd_sim *s, double dt) {
+    return guarded(s, [&](gfmd::Simulation &m) { m.set_timestep(dt); });
+}
+
+int32_t gfmd_set_damping(gfmd_sim *s, double eta) {
+    return guarded(s, [&](gfmd::Simulation &m) { m.set_damping(eta); });
+}
+
+int32_t gfmd_get_dynamics(const gfmd_sim *s, double *dt, double *eta) {
+    return guarded(s, [&](const gfmd::Simulation &m) {
+        if (dt) *dt = m.timestep();
+        if (eta) *eta = m.damping();
+    });
+}
+
+int32_t gfmd_step(gfmd_sim *s, int64_t nsteps) {
+    return guarded(s, [&](gfmd::Simulation &m) {
+        if (nsteps < 0) fail(GFMD_ERR_INVALID_ARG, "nsteps must be >= 0, got " + std::to_string(nsteps));
+        m.step(nsteps);
+    });
+}
+
+int32_t gfmd_relax(gfmd_sim *s, double tol, int64_t max_steps, int64_t *steps_taken) {
+    return guarded(s, [&](gfmd::Simulation &m) {
+        if (std::isnan(tol)) fail(GFMD_ERR_INVALID_ARG, "tol is NaN");
+        if (max_steps <= 0) fail(GFMD_ERR_INVALID_ARG, "max_steps must be > 0, got " + std::to_string(max_steps));
+        const double t = (tol > 0.0) ? tol : GFMD_DEFAULT_TOL;
+        int64_t taken = 0;
+        const bool ok = m.relax(t, max_steps, taken);
+        if (steps_taken) *steps_taken = taken;
+        if (!ok) {
+            char buf[160];
+            std::snprintf(buf, sizeof buf, "not converged after %lld steps: residual %.3e > tol %.3e",
+                          static_cast<long long>(taken), m.residual(), t);
+            fail(GFMD_ERR_NOT_CONVERGED, buf);
+        }
+    });
+}
+
+int32_t gfmd_get_residual(const gfmd_sim *s, double *residual) {
+    return guarded(s, [&](const gfmd::Simulation &m) {
+        need(residual, "residual");
+        *residual = m.residual();
+    });
+}
+
+int32_t gfmd_reset(gfmd_sim *s) {
+    return guarded(s, [&](gfmd::Simulation &m) { m.reset(); });
+}
+
+int32_t gfmd_get_contact_area(const gfmd_sim *s, double *rel_area) {
+    return guarded(s, [&](const gfmd::Simulation &m) {
+        need(rel_area, "rel_area");
+        *rel_area = m.contact_area();
+    });
+}
+
+int32_t gfmd_get_mean_gap(const gfmd_sim *s, double *mean_gap) {
+    return guarded(s, [&](const gfmd::Simulation &m) {
+        need(mean_gap, "mean_gap");
+        *mean_gap = m.mean_gap();
+    });
+}
+
+int32_t gfmd_get_energies(const gfmd_sim *s, double *elastic, double *adhesive) {
+    return guarded(s, [&](const gfmd::Simulation &m) {
+        need(elastic, "elastic");
+        need(adhesive, "adhesive");
+        *elastic = m.elastic_energy();
+        *adhesive = m.adhesive_energy();
+    });
+}
+
+int32_t gfmd_get_gap(const gfmd_sim *s, double *gap) {
+    return guarded(s, [&](const gfmd::Simulation &m) {
+        need(gap, "gap");
+        m.gap(gap);
+    });
+}
+
+int32_t gfmd_get_surface(const gfmd_sim *s, double *z) {
+    return guarded(s, [&](const gfmd::Simulation &m) {
+        need(z, "z");
+        m.surface(z);
+    });
+}
+
+int32_t gfmd_get_pressure(const gfmd_sim *s, double *p) {
+    return guarded(s, [&](const gfmd::Simulation &m) {
+        need(p, "p");
+        m.pressure(p);
+    });
+}
+
+}  // extern "C"

@@ -1,0 +1,318 @@
+#include "simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <utility>
+
+#include "error.hpp"
+#include "green.hpp"
+
+namespace gfmd {
+
+namespace {
+
+// Automatic dynamics: dt = kDtFactor / omega_max (Verlet is stable up to 2/omega_max; 1 leaves
+// room for the hard-wall collisions and the adhesive nonlinearity), damping eta = 2 kZeta
+// omega_min: the slowest elastic mode slightly underdamped, every faster mode underdamped and
+// decaying at the same rate eta/2.
+constexpr double kDtFactor = 1.0;
+constexpr double kZeta = 0.9;
+
+std::string num(double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", x);
+    return buf;
+}
+
+void require_finite(double x, const char *name) {
+    if (!std::isfinite(x)) fail(GFMD_ERR_INVALID_ARG, std::string(name) + " must be finite, got " + num(x));
+}
+
+}  // namespace
+
+Simulation::Simulation(int64_t nx, int64_t ny, double lx, double ly)
+    : grid_(nx, ny, lx, ly),
+      n_(nx * ny),
+      area_per_point_(lx * ly / static_cast<double>(nx * ny)),
+      nu_(std::numeric_limits<double>::quiet_NaN()),
+      h_(static_cast<std::size_t>(n_)),
+      z_(static_cast<std::size_t>(n_)),
+      v_(static_cast<std::size_t>(n_)),
+      f_(static_cast<std::size_t>(n_)),
+      work_(static_cast<std::size_t>(grid_.complex_size())),
+      saved_z_(static_cast<std::size_t>(n_)),
+      saved_v_(static_cast<std::size_t>(n_)) {
+    adopt_stiffness(stiffness_for(kind_, width_, e_star_, nu_));
+    reset();
+}
+
+RealBuffer Simulation::stiffness_for(int32_t kind, double width, double e_star, double nu) const {
+    RealBuffer k(static_cast<std::size_t>(grid_.complex_size()));
+    const int64_t nxh = grid_.nxh();
+    for (int64_t ky = 0; ky < grid_.ny(); ++ky) {
+        const double qy = grid_.qy(ky);
+        for (int64_t kx = 0; kx < nxh; ++kx) {
+            const double qx = grid_.qx(kx);
+            const double q = std::sqrt(qx * qx + qy * qy);
+            double kq = 0.0;  // the uniform mode has no elastic stiffness: force balance sets it
+            if (q > 0.0) {
+                const double g = (kind == GFMD_GREEN_HALFSPACE) ? 1.0 : green_inverse_factor(kind, q * width, nu);
+                kq = 0.5 * q * e_star * g;  // 1/G(q) = q E* / (2 f(q w))
+                if (!std::isfinite(kq))
+                    fail(GFMD_ERR_RANGE, "the stiffness 1/G(q) overflows at q w = " + num(q * width) +
+                                             ": the layer is too thin or too stiff for this grid");
+            }
+            k[static_cast<std::size_t>(ky * nxh + kx)] = kq;
+        }
+    }
+    return k;
+}
+
+void Simulation::adopt_stiffness(RealBuffer &&k) {
+    stiff_ = std::move(k);
+    k_min_ = std::numeric_limits<double>::infinity();
+    k_max_ = 0.0;
+    for (std::size_t c = 1; c < stiff_.size(); ++c) {
+        if (stiff_[c] > 0.0) k_min_ = std::min(k_min_, stiff_[c]);
+        k_max_ = std::max(k_max_, stiff_[c]);
+    }
+    if (k_max_ == 0.0) {  // a single grid point, or every mode underflowed: use the cell's scale
+        k_max_ = e_star_ * 3.141592653589793 / std::sqrt(grid_.cell_area());
+        k_min_ = k_max_;
+    }
+    update_dynamics();
+}
+
+void Simulation::update_dynamics() {
+    const double k_adh = (gamma0_ > 0.0) ? gamma0_ / (rho_ * rho_) : 0.0;
+    dt_ = (dt_user_ > 0.0) ? dt_user_ : kDtFactor / std::sqrt(k_max_ + k_adh);
+    eta_ = (eta_user_ > 0.0) ? eta_user_ : 2.0 * kZeta * std::sqrt(k_min_);
+}
+
+void Simulation::set_modulus(double e_star) {
+    require_finite(e_star, "E*");
+    if (e_star <= 0.0) fail(GFMD_ERR_INVALID_ARG, "E* must be > 0, got " + num(e_star));
+    RealBuffer k = stiffness_for(kind_, width_, e_star, nu_);
+    e_star_ = e_star;
+    adopt_stiffness(std::move(k));
+    evaluate_forces();
+}
+
+void Simulation::set_green(int32_t kind, double width) {
+    if (kind != GFMD_GREEN_HALFSPACE && kind != GFMD_GREEN_LAYER_FLUID && kind != GFMD_GREEN_LAYER_BONDED)
+        fail(GFMD_ERR_BAD_ENUM, "unknown Green's function kind " + std::to_string(kind));
+    if (kind == GFMD_GREEN_HALFSPACE) {
+        width = 0.0;
+    } else {
+        require_finite(width, "layer width");
+        if (width <= 0.0) fail(GFMD_ERR_INVALID_ARG, "layer width must be > 0, got " + num(width));
+    }
+    if (kind == GFMD_GREEN_LAYER_BONDED && std::isnan(nu_))
+        fail(GFMD_ERR_STATE, "the bonded layer needs Poisson's ratio: call gfmd_set_poisson first");
+    RealBuffer k = stiffness_for(kind, width, e_star_, nu_);
+    kind_ = kind;
+    width_ = width;
+    adopt_stiffness(std::move(k));
+    evaluate_forces();
+}
+
+void Simulation::set_poisson(double nu) {
+    require_finite(nu, "Poisson's ratio");
+    if (nu <= -1.0 || nu > 0.5) fail(GFMD_ERR_INVALID_ARG, "Poisson's ratio must be in (-1, 0.5], got " + num(nu));
+    if (kind_ == GFMD_GREEN_LAYER_BONDED) {
+        RealBuffer k = stiffness_for(kind_, width_, e_star_, nu);
+        nu_ = nu;
+        adopt_stiffness(std::move(k));
+        evaluate_forces();
+    } else {
+        nu_ = nu;
+    }
+}
+
+void Simulation::set_heights(const double *h) {
+    for (int64_t i = 0; i < n_; ++i)
+        if (!std::isfinite(h[i])) fail(GFMD_ERR_INVALID_ARG, "height " + std::to_string(i) + " is not finite");
+    std::copy(h, h + n_, h_.data());
+    reset();
+}
+
+void Simulation::generate_selfaffine(const SelfAffineParams &p) {
+    validate_selfaffine(grid_, p);  // before h_ is overwritten
+    gfmd::generate_selfaffine(grid_, p, work_.data(), h_.data());
+    reset();
+}
+
+void Simulation::set_pressure(double sigma0) {
+    require_finite(sigma0, "sigma0");
+    if (sigma0 < 0.0) fail(GFMD_ERR_INVALID_ARG, "sigma0 must be >= 0, got " + num(sigma0));
+    sigma0_ = sigma0;
+    evaluate_forces();
+}
+
+void Simulation::set_adhesion(double gamma0, double rho) {
+    require_finite(gamma0, "gamma0");
+    require_finite(rho, "rho");
+    if (gamma0 < 0.0) fail(GFMD_ERR_INVALID_ARG, "gamma0 must be >= 0, got " + num(gamma0));
+    if (rho <= 0.0) fail(GFMD_ERR_INVALID_ARG, "rho must be > 0, got " + num(rho));
+    const double k_adh = gamma0 / (rho * rho);
+    if (!std::isfinite(k_adh) || !std::isfinite(gamma0 / rho))
+        fail(GFMD_ERR_RANGE, "the adhesive stiffness gamma0/rho^2 overflows");
+    gamma0_ = gamma0;
+    rho_ = rho;
+    update_dynamics();
+    evaluate_forces();
+}
+
+void Simulation::set_timestep(double dt) {
+    require_finite(dt, "dt");
+    if (dt < 0.0) fail(GFMD_ERR_INVALID_ARG, "dt must be >= 0 (0 = automatic), got " + num(dt));
+    dt_user_ = dt;
+    update_dynamics();
+}
+
+void Simulation::set_damping(double eta) {
+    require_finite(eta, "damping");
+    if (eta < 0.0) fail(GFMD_ERR_INVALID_ARG, "damping must be >= 0 (0 = automatic), got " + num(eta));
+    eta_user_ = eta;
+    update_dynamics();
+}
+
+void Simulation::reset() {
+    const double top = *std::max_element(h_.data(), h_.data() + n_);
+    std::fill(z_.data(), z_.data() + n_, top);
+    std::fill(v_.data(), v_.data() + n_, 0.0);
+    evaluate_forces();
+}
+
+void Simulation::evaluate_forces() {
+    // Elastic stress in Fourier space: sigma(q) = -u(q)/G(q); U_el = (A/2) sum_q |u(q)|^2/G(q)
+    // with u(q) = Z(q)/N the normalized coefficients (seed paper, Eqs. 1-3).
+    grid_.forward(z_.data(), work_.data());
+    const int64_t nxh = grid_.nxh();
+    const double inv_n = 1.0 / static_cast<double>(n_);
+    double e = 0.0;
+    for (int64_t ky = 0; ky < grid_.ny(); ++ky) {
+        std::complex<double> *row = work_.data() + ky * nxh;
+        const double *krow = stiff_.data() + ky * nxh;
+        for (int64_t kx = 0; kx < nxh; ++kx) {
+            e += grid_.weight(kx) * krow[kx] * std::norm(row[kx]);
+            row[kx] *= -krow[kx] * inv_n;
+        }
+    }
+    u_el_ = 0.5 * grid_.cell_area() * e * inv_n * inv_n;
+    grid_.backward(work_.data(), f_.data());
+
+    // Real space: external pressure, adhesion, and the residual of the constrained problem.
+    const bool adhesive = gamma0_ > 0.0;
+    const double adh_coef = adhesive ? gamma0_ / rho_ : 0.0, inv_rho = 1.0 / rho_;
+    double adh_sum = 0.0, res2 = 0.0;
+    for (int64_t i = 0; i < n_; ++i) {
+        const double g = z_[i] - h_[i];
+        double fi = f_[i] - sigma0_;
+        if (adhesive) {
+            const double w = std::exp(-g * inv_rho);
+            adh_sum += w;
+            fi -= adh_coef * w;
+        }
+        f_[i] = fi;
+        const double r = (g <= 0.0) ? std::max(fi, 0.0) : fi;  // in contact only pulling away counts
+        res2 += r * r;
+    }
+    u_ad_ = gamma0_ * area_per_point_ * adh_sum;
+    double ref = sigma0_ + adh_coef;
+    if (ref <= 0.0) ref = e_star_;
+    residual_ = std::sqrt(res2 * inv_n) / ref;
+}
+
+void Simulation::advance() {
+    // Damped leapfrog: v(t+dt/2) = [(1 - eta dt/2) v(t-dt/2) + dt F(t)] / (1 + eta dt/2),
+    // z(t+dt) = z(t) + dt v(t+dt/2), then the hard wall z >= h with the velocity of a point that
+    // hits it set to zero (seed paper, Sec. 2.2).
+    const double c1 = 1.0 - 0.5 * eta_ * dt_, c2 = 1.0 / (1.0 + 0.5 * eta_ * dt_), dt = dt_;
+    for (int64_t i = 0; i < n_; ++i) {
+        double vi = (c1 * v_[i] + dt * f_[i]) * c2;
+        double zi = z_[i] + dt * vi;
+        if (zi < h_[i]) {
+            zi = h_[i];
+            vi = 0.0;
+        }
+        v_[i] = vi;
+        z_[i] = zi;
+    }
+    evaluate_forces();
+}
+
+void Simulation::save_state() {
+    std::copy(z_.data(), z_.data() + n_, saved_z_.data());
+    std::copy(v_.data(), v_.data() + n_, saved_v_.data());
+}
+
+void Simulation::restore_state() {
+    std::copy(saved_z_.data(), saved_z_.data() + n_, z_.data());
+    std::copy(saved_v_.data(), saved_v_.data() + n_, v_.data());
+    evaluate_forces();
+}
+
+void Simulation::diverged(int64_t step) {
+    restore_state();
+    const double k_adh = (gamma0_ > 0.0) ? gamma0_ / (rho_ * rho_) : 0.0;
+    fail(GFMD_ERR_DIVERGED, "a non-finite value appeared at step " + std::to_string(step) + " (dt = " + num(dt_) +
+                                ", stability limit 2/omega_max = " + num(2.0 / std::sqrt(k_max_ + k_adh)) +
+                                "); the state before the call was restored");
+}
+
+void Simulation::step(int64_t nsteps) {
+    save_state();
+    for (int64_t s = 0; s < nsteps; ++s) {
+        advance();
+        if (!std::isfinite(residual_) || !std::isfinite(u_el_)) diverged(s + 1);
+    }
+}
+
+bool Simulation::relax(double tol, int64_t max_steps, int64_t &steps_taken) {
+    save_state();
+    steps_taken = 0;
+    while (residual_ > tol) {
+        if (steps_taken == max_steps) return false;
+        advance();
+        ++steps_taken;
+        if (!std::isfinite(residual_) || !std::isfinite(u_el_)) diverged(steps_taken);
+    }
+    return true;
+}
+
+double Simulation::contact_area() const {
+    int64_t c = 0;
+    for (int64_t i = 0; i < n_; ++i) c += (z_[i] <= h_[i]) ? 1 : 0;
+    return static_cast<double>(c) / static_cast<double>(n_);
+}
+
+double Simulation::mean_gap() const {
+    double s = 0.0;
+    for (int64_t i = 0; i < n_; ++i) s += z_[i] - h_[i];
+    return s / static_cast<double>(n_);
+}
+
+void Simulation::heights(double *out) const { std::copy(h_.data(), h_.data() + n_, out); }
+
+void Simulation::gap(double *out) const {
+    for (int64_t i = 0; i < n_; ++i) out[i] = z_[i] - h_[i];
+}
+
+void Simulation::surface(double *out) const { std::copy(z_.data(), z_.data() + n_, out); }
+
+void Simulation::pressure(double *out) const {
+    // Substrate on body: contact pressure max(0, -F) where the gap is zero, minus the adhesive pull.
+    const double adh_coef = (gamma0_ > 0.0) ? gamma0_ / rho_ : 0.0;
+    for (int64_t i = 0; i < n_; ++i) {
+        const double g = z_[i] - h_[i];
+        const double pull = (adh_coef > 0.0) ? adh_coef * std::exp(-g / rho_) : 0.0;
+        const double contact = (g <= 0.0) ? std::max(-f_[i], 0.0) : 0.0;
+        out[i] = contact - pull;
+    }
+}
+
+}  // namespace gfmd

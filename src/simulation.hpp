@@ -1,0 +1,90 @@
+// The GFMD simulation: state, elastic forces in Fourier space, damped dynamics with the
+// non-penetration constraint in real space, and the observables.
+#ifndef GFMD_SRC_SIMULATION_HPP
+#define GFMD_SRC_SIMULATION_HPP
+
+#include <cstdint>
+
+#include "buffer.hpp"
+#include "fft_grid.hpp"
+#include "substrate.hpp"
+
+namespace gfmd {
+
+class Simulation {
+public:
+    Simulation(int64_t nx, int64_t ny, double lx, double ly);
+
+    const FftGrid &grid() const { return grid_; }
+
+    // Setters check everything before changing anything (a failed call changes nothing).
+    void set_modulus(double e_star);
+    void set_green(int32_t kind, double width);
+    void set_poisson(double nu);
+    void set_heights(const double *h);
+    void generate_selfaffine(const SelfAffineParams &p);
+    void set_pressure(double sigma0);
+    void set_adhesion(double gamma0, double rho);
+    void set_timestep(double dt);
+    void set_damping(double eta);
+    void reset();
+
+    double timestep() const { return dt_; }
+    double damping() const { return eta_; }
+
+    // Dynamics.  Throw Error(GFMD_ERR_DIVERGED) after restoring the state of the call's start.
+    void step(int64_t nsteps);
+    // Returns true if converged; steps_taken receives the number of steps made.
+    bool relax(double tol, int64_t max_steps, int64_t &steps_taken);
+    double residual() const { return residual_; }
+
+    // Observables of the current configuration.
+    double contact_area() const;
+    double mean_gap() const;
+    double elastic_energy() const { return u_el_; }
+    double adhesive_energy() const { return u_ad_; }
+    void heights(double *out) const;
+    void gap(double *out) const;
+    void surface(double *out) const;
+    void pressure(double *out) const;
+
+private:
+    // Stiffness 1/G(q) on the Hermitian half-spectrum for a candidate body; throws on overflow.
+    RealBuffer stiffness_for(int32_t kind, double width, double e_star, double nu) const;
+    void adopt_stiffness(RealBuffer &&k);  // commit and update the automatic dynamics
+    void update_dynamics();
+    void evaluate_forces();  // forces, energies and residual of the current z
+    void advance();          // one damped Verlet step followed by evaluate_forces()
+    void save_state();
+    void restore_state();
+    [[noreturn]] void diverged(int64_t step);
+
+    FftGrid grid_;
+    int64_t n_;
+    double area_per_point_;
+
+    // Parameters.
+    double e_star_ = 1.0;
+    int32_t kind_ = 0;  // GFMD_GREEN_HALFSPACE
+    double width_ = 0.0;
+    double nu_;         // NaN until set
+    double sigma0_ = 0.0;
+    double gamma0_ = 0.0, rho_ = 1.0;
+    double dt_user_ = 0.0, eta_user_ = 0.0;
+
+    // Derived.
+    double dt_ = 0.0, eta_ = 0.0, k_min_ = 0.0, k_max_ = 0.0;
+
+    // Fields: substrate, surface, velocity, non-contact force per area, stiffness, FFT scratch,
+    // and the state saved at the start of a dynamics call.
+    RealBuffer h_, z_, v_, f_, stiff_;
+    ComplexBuffer work_;
+    RealBuffer saved_z_, saved_v_;
+
+    // Cached observables of the current z (kept in step with z by evaluate_forces()).
+    double u_el_ = 0.0, u_ad_ = 0.0, residual_ = 0.0;
+};
+
+}  // namespace gfmd
+
+#endif
