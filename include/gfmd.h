@@ -63,6 +63,12 @@ enum gfmd_distribution {
     GFMD_DIST_GAUSSIAN = 1  /**< real and imaginary parts Gaussian */
 };
 
+/** Relaxation methods, for gfmd_set_solver(). */
+enum gfmd_solver {
+    GFMD_SOLVER_VERLET = 0,  /**< the seed paper's damped Verlet dynamics */
+    GFMD_SOLVER_FIRE = 1     /**< FIRE (Bitzek et al., PRL 97, 170201 (2006)), the default */
+};
+
 /* ---------------------------------------------------------------- version and status */
 
 /** Runtime version string, e.g. "0.1.0" (compare with GFMD_VERSION_STRING). */
@@ -172,12 +178,19 @@ GFMD_API int32_t gfmd_set_timestep(gfmd_sim *s, double dt);
  */
 GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
 
+/**
+ * Method used by gfmd_step() and gfmd_relax(): GFMD_SOLVER_FIRE (default; adapts its step up to
+ * the time step and needs no damping) or GFMD_SOLVER_VERLET (damped dynamics).  Both share the
+ * forces, the wall and the convergence criterion, and reach the same equilibrium.
+ */
+GFMD_API int32_t gfmd_set_solver(gfmd_sim *s, int32_t solver);
+
 /** The time step and damping rate in effect (automatic or user-set). Either pointer may be NULL. */
 GFMD_API int32_t gfmd_get_dynamics(const gfmd_sim *s, double *dt, double *eta);
 
 /**
- * Advance @p nsteps >= 0 steps of the damped dynamics (Verlet in time, elastic forces in Fourier
- * space, non-penetration z >= h enforced in real space after each step).
+ * Advance @p nsteps >= 0 steps of the chosen solver (elastic forces in Fourier space,
+ * non-penetration z >= h enforced in real space after each step).
  * GFMD_ERR_DIVERGED if a non-finite value appears; the state before the call is then restored.
  */
 GFMD_API int32_t gfmd_step(gfmd_sim *s, int64_t nsteps);

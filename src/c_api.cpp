@@ -201,6 +201,10 @@ int32_t gfmd_set_damping(gfmd_sim *s, double eta) {
     return guarded(s, [&](gfmd::Simulation &m) { m.set_damping(eta); });
 }
 
+int32_t gfmd_set_solver(gfmd_sim *s, int32_t solver) {
+    return guarded(s, [&](gfmd::Simulation &m) { m.set_solver(solver); });
+}
+
 int32_t gfmd_get_dynamics(const gfmd_sim *s, double *dt, double *eta) {
     return guarded(s, [&](const gfmd::Simulation &m) {
         if (dt) *dt = m.timestep();

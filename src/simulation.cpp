@@ -21,6 +21,15 @@ namespace {
 constexpr double kDtFactor = 1.0;
 constexpr double kZeta = 0.9;
 
+// FIRE parameters (Bitzek et al. 2006; Guenole et al., Comput. Mater. Sci. 175, 109584 (2020)):
+// the time step grows by kFireInc after kFireDelay downhill steps up to kFireDtMax/omega_max and is
+// halved on an uphill step; the velocity mixing starts at kFireAlpha0 and decays by kFireAlphaDec.
+constexpr double kFireDtMax = 1.0;
+constexpr double kFireDtStart = 0.5;
+constexpr double kFireInc = 1.1, kFireDec = 0.5;
+constexpr double kFireAlpha0 = 0.1, kFireAlphaDec = 0.99;
+constexpr int64_t kFireDelay = 5;
+
 std::string num(double x) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.6g", x);
@@ -90,6 +99,7 @@ void Simulation::update_dynamics() {
     const double k_adh = (gamma0_ > 0.0) ? gamma0_ / (rho_ * rho_) : 0.0;
     dt_ = (dt_user_ > 0.0) ? dt_user_ : kDtFactor / std::sqrt(k_max_ + k_adh);
     eta_ = (eta_user_ > 0.0) ? eta_user_ : 2.0 * kZeta * std::sqrt(k_min_);
+    restart_fire();
 }
 
 void Simulation::set_modulus(double e_star) {
@@ -180,6 +190,19 @@ void Simulation::set_damping(double eta) {
     update_dynamics();
 }
 
+void Simulation::set_solver(int32_t solver) {
+    if (solver != GFMD_SOLVER_VERLET && solver != GFMD_SOLVER_FIRE)
+        fail(GFMD_ERR_BAD_ENUM, "unknown solver " + std::to_string(solver));
+    solver_ = solver;
+    restart_fire();
+}
+
+void Simulation::restart_fire() {
+    fire_dt_ = kFireDtStart * dt_ / kDtFactor;
+    fire_alpha_ = kFireAlpha0;
+    fire_positive_ = 0;
+}
+
 void Simulation::reset() {
     const double top = *std::max_element(h_.data(), h_.data() + n_);
     std::fill(z_.data(), z_.data() + n_, top);
@@ -208,7 +231,7 @@ void Simulation::evaluate_forces() {
     // Real space: external pressure, adhesion, and the residual of the constrained problem.
     const bool adhesive = gamma0_ > 0.0;
     const double adh_coef = adhesive ? gamma0_ / rho_ : 0.0, inv_rho = 1.0 / rho_;
-    double adh_sum = 0.0, res2 = 0.0;
+    double adh_sum = 0.0, res2 = 0.0, power = 0.0, v2 = 0.0;
     for (int64_t i = 0; i < n_; ++i) {
         const double g = z_[i] - h_[i];
         double fi = f_[i] - sigma0_;
@@ -220,7 +243,12 @@ void Simulation::evaluate_forces() {
         f_[i] = fi;
         const double r = (g <= 0.0) ? std::max(fi, 0.0) : fi;  // in contact only pulling away counts
         res2 += r * r;
+        power += r * v_[i];
+        v2 += v_[i] * v_[i];
     }
+    power_ = power;
+    f_norm2_ = res2;
+    v_norm2_ = v2;
     u_ad_ = gamma0_ * area_per_point_ * adh_sum;
     double ref = sigma0_ + adh_coef;
     if (ref <= 0.0) ref = e_star_;
@@ -228,6 +256,60 @@ void Simulation::evaluate_forces() {
 }
 
 void Simulation::advance() {
+    if (solver_ == GFMD_SOLVER_FIRE)
+        advance_fire();
+    else
+        advance_verlet();
+    evaluate_forces();
+}
+
+void Simulation::advance_fire() {
+    // FIRE 2.0 (Guenole et al. 2020, Algorithm 2) on the real-space field, unit mass per area:
+    // uphill (F.v <= 0) -> stop and shrink the step; downhill -> grow it and steer v along F.
+    // The wall is handled as in the damped dynamics: forces into the substrate at points in
+    // contact are taken by the wall (projected out of F) and a point that hits it stops.
+    const double dt_max = kFireDtMax * dt_ / kDtFactor;
+    bool uphill = false;
+    if (power_ > 0.0) {
+        if (++fire_positive_ > kFireDelay) {
+            fire_dt_ = std::min(fire_dt_ * kFireInc, dt_max);
+            fire_alpha_ *= kFireAlphaDec;
+        }
+    } else {
+        uphill = true;
+        fire_positive_ = 0;
+        fire_dt_ *= kFireDec;
+        fire_alpha_ = kFireAlpha0;
+    }
+    const double dt = fire_dt_;
+    // Mixing after the velocity update: v <- (1-a) v + a |v| F/|F|, with |v| of the updated v.
+    // |v + dt F|^2 follows from the sums of the last force evaluation.
+    double vn2 = 0.0;
+    if (!uphill) vn2 = v_norm2_ + 2.0 * dt * power_ + dt * dt * f_norm2_;
+    const double mix = (f_norm2_ > 0.0) ? fire_alpha_ * std::sqrt(std::max(vn2, 0.0) / f_norm2_) : 0.0;
+    const double keep = 1.0 - fire_alpha_;
+    for (int64_t i = 0; i < n_; ++i) {
+        const double g = z_[i] - h_[i];
+        const double fi = (g <= 0.0) ? std::max(f_[i], 0.0) : f_[i];
+        double zi = z_[i];
+        double vi = v_[i];
+        if (uphill) {
+            zi -= 0.5 * dt * vi;  // step back half a step (FIRE 2.0), then restart from rest
+            vi = 0.0;
+        }
+        vi += dt * fi;
+        vi = keep * vi + mix * fi;
+        zi += dt * vi;
+        if (zi < h_[i]) {
+            zi = h_[i];
+            vi = 0.0;
+        }
+        v_[i] = vi;
+        z_[i] = zi;
+    }
+}
+
+void Simulation::advance_verlet() {
     // Damped leapfrog: v(t+dt/2) = [(1 - eta dt/2) v(t-dt/2) + dt F(t)] / (1 + eta dt/2),
     // z(t+dt) = z(t) + dt v(t+dt/2), then the hard wall z >= h with the velocity of a point that
     // hits it set to zero (seed paper, Sec. 2.2).
@@ -242,7 +324,6 @@ void Simulation::advance() {
         v_[i] = vi;
         z_[i] = zi;
     }
-    evaluate_forces();
 }
 
 void Simulation::save_state() {
@@ -274,6 +355,7 @@ void Simulation::step(int64_t nsteps) {
 
 bool Simulation::relax(double tol, int64_t max_steps, int64_t &steps_taken) {
     save_state();
+    restart_fire();
     steps_taken = 0;
     while (residual_ > tol) {
         if (steps_taken == max_steps) return false;

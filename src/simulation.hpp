@@ -27,10 +27,12 @@ public:
     void set_adhesion(double gamma0, double rho);
     void set_timestep(double dt);
     void set_damping(double eta);
+    void set_solver(int32_t solver);
     void reset();
 
     double timestep() const { return dt_; }
     double damping() const { return eta_; }
+    int32_t solver() const { return solver_; }
 
     // Dynamics.  Throw Error(GFMD_ERR_DIVERGED) after restoring the state of the call's start.
     void step(int64_t nsteps);
@@ -54,7 +56,10 @@ private:
     void adopt_stiffness(RealBuffer &&k);  // commit and update the automatic dynamics
     void update_dynamics();
     void evaluate_forces();  // forces, energies and residual of the current z
-    void advance();          // one damped Verlet step followed by evaluate_forces()
+    void advance();          // one step of the chosen solver followed by evaluate_forces()
+    void advance_verlet();
+    void advance_fire();
+    void restart_fire();
     void save_state();
     void restore_state();
     [[noreturn]] void diverged(int64_t step);
@@ -71,6 +76,7 @@ private:
     double sigma0_ = 0.0;
     double gamma0_ = 0.0, rho_ = 1.0;
     double dt_user_ = 0.0, eta_user_ = 0.0;
+    int32_t solver_ = 1;  // GFMD_SOLVER_FIRE
 
     // Derived.
     double dt_ = 0.0, eta_ = 0.0, k_min_ = 0.0, k_max_ = 0.0;
@@ -83,6 +89,12 @@ private:
 
     // Cached observables of the current z (kept in step with z by evaluate_forces()).
     double u_el_ = 0.0, u_ad_ = 0.0, residual_ = 0.0;
+    // Sums over the projected force F (zero where the wall holds the body) for FIRE:
+    // power F.v, |F|^2, |v|^2.
+    double power_ = 0.0, f_norm2_ = 0.0, v_norm2_ = 0.0;
+    // FIRE's adaptive state (Bitzek et al., PRL 97, 170201 (2006)).
+    double fire_dt_ = 0.0, fire_alpha_ = 0.0;
+    int64_t fire_positive_ = 0;
 };
 
 }  // namespace gfmd
