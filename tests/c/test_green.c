@@ -1,0 +1,130 @@
+/* Test 1: the Green's function factors f(t) against independent evaluations: the issue's
+ * reference values, the closed forms in long double where they do not cancel, the small-t series
+ * (thin-plate limit t^3 f -> 6) and the large-t limit f -> 1. */
+#include <float.h>
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "gfmd.h"
+#include "test_support.h"
+
+static double fluid(double t) {
+    double f = NAN;
+    assert_int_equal(gfmd_green_factor(GFMD_GREEN_LAYER_FLUID, t, 0.0, &f), GFMD_OK);
+    return f;
+}
+
+static double bonded(double t, double nu) {
+    double f = NAN;
+    assert_int_equal(gfmd_green_factor(GFMD_GREEN_LAYER_BONDED, t, nu, &f), GFMD_OK);
+    return f;
+}
+
+/* Direct closed forms in long double (64-bit mantissa): accurate where they cancel by less than
+ * ~1e5, i.e. t >= 0.05, and do not overflow, t <= 20. */
+static long double fluid_closed(long double t) {
+    long double x = 2.0L * t;
+    return (sinhl(x) + x) / (coshl(x) - 1.0L - 0.5L * x * x);
+}
+
+static long double bonded_closed(long double t, long double nu) {
+    long double x = 2.0L * t, k = 3.0L - 4.0L * nu;
+    return (k * sinhl(x) - x) / (k * coshl(x) + 0.5L * x * x + 0.5L * (1.0L + k * k));
+}
+
+static void reference_values(void **state) {
+    (void)state;
+    /* Values quoted in the issue to 7 significant digits: agree to half a unit in the 7th. */
+    const double t[] = {0.1, 0.5, 1.0, 2.0, 5.0};
+    const double f[] = {6012.018, 50.49139, 7.382435, 1.709063, 1.005565};
+    for (int i = 0; i < 5; ++i) assert_true(ts_rel(fluid(t[i]), f[i]) < 1e-6);
+}
+
+static void closed_form_overlap(void **state) {
+    (void)state;
+    /* The library switches from series to scaled exponentials at t = 1; both must agree with the
+     * long-double closed form to 1e-13 (a few hundred ulps: the long-double reference itself loses
+     * up to ~5 of its 19 digits to cancellation at t = 0.05). */
+    for (double t = 0.05; t <= 20.0; t *= 1.07) {
+        assert_true(ts_rel(fluid(t), (double)fluid_closed(t)) < 1e-13);
+        for (double nu = -0.5; nu <= 0.5; nu += 0.25)
+            assert_true(ts_rel(bonded(t, nu), (double)bonded_closed(t, nu)) < 1e-13);
+    }
+    /* Continuity across the switch: relative jump below 1e-14. */
+    assert_true(ts_rel(fluid(1.0 - 1e-12), fluid(1.0 + 1e-12)) < 1e-11);
+    assert_true(ts_rel(bonded(1.0 - 1e-12, 0.5), bonded(1.0 + 1e-12, 0.5)) < 1e-11);
+}
+
+static void thin_plate_limit(void **state) {
+    (void)state;
+    /* f = 6/t^3 + 6/(5t) + 32t/175 + O(t^3): for t <= 1e-2 the omitted terms are below 1e-12 of f. */
+    for (double t = 1e-8; t <= 1e-2; t *= 3.0) {
+        double series = 6.0 / (t * t * t) + 6.0 / (5.0 * t) + 32.0 * t / 175.0;
+        assert_true(ts_rel(fluid(t), series) < 1e-12);
+    }
+    /* t^3 f -> 6 */
+    assert_true(fabs(fluid(1e-8) * 1e-24 - 6.0) < 1e-12);
+    /* bonded, incompressible (kappa = 1): f_b -> (2/3) t^3; compressible: f_b -> 4 t (kappa-1)/(1+kappa)^2 */
+    assert_true(ts_rel(bonded(1e-6, 0.5), 2.0 / 3.0 * 1e-18) < 1e-9);
+    assert_true(ts_rel(bonded(1e-9, 0.25), 4.0 * 1e-9 * 1.0 / 9.0) < 1e-9);
+}
+
+static void large_t_limit(void **state) {
+    (void)state;
+    /* f - 1 = (x^2 + 2x + 2) e^-x + O(x^4 e^-2x), x = 2t: the omitted term is below 1e-12 for
+     * t >= 10 (7e-13 at t = 10), and f is within an ulp or two of 1 there. */
+    for (double t = 10.0; t < 40.0; t += 1.5) {
+        double x = 2.0 * t;
+        assert_true(fabs(fluid(t) - 1.0 - (x * x + 2.0 * x + 2.0) * exp(-x)) < 2e-12);
+    }
+    assert_true(fluid(1e8) == 1.0);
+    assert_true(bonded(1e8, 0.3) == 1.0);
+    double f = 0.0;
+    assert_int_equal(gfmd_green_factor(GFMD_GREEN_HALFSPACE, 3.0, 0.0, &f), GFMD_OK);
+    assert_true(f == 1.0);
+}
+
+static void finite_and_monotone_everywhere(void **state) {
+    (void)state;
+    /* From 1e-8 to 1e8: finite, positive, never NaN; the fluid f decreases monotonically to 1,
+     * the bonded f_b increases monotonically to 1 (a soft layer on a rigid base only stiffens). */
+    double prev_f = INFINITY, prev_b = 0.0;
+    for (double t = 1e-8; t <= 1e8; t *= 1.01) {
+        double f = fluid(t), b = bonded(t, 0.3);
+        assert_true(isfinite(f) && f >= 1.0);
+        assert_true(isfinite(b) && b > 0.0 && b <= 1.0);
+        assert_true(f <= prev_f);
+        assert_true(b >= prev_b * (1.0 - 1e-15));
+        prev_f = f;
+        prev_b = b;
+    }
+}
+
+static void bad_arguments(void **state) {
+    (void)state;
+    double f = 42.0;
+    assert_int_equal(gfmd_green_factor(GFMD_GREEN_LAYER_FLUID, 0.0, 0.0, &f), GFMD_ERR_INVALID_ARG);
+    assert_int_equal(gfmd_green_factor(GFMD_GREEN_LAYER_FLUID, -1.0, 0.0, &f), GFMD_ERR_INVALID_ARG);
+    assert_int_equal(gfmd_green_factor(GFMD_GREEN_LAYER_FLUID, NAN, 0.0, &f), GFMD_ERR_INVALID_ARG);
+    assert_int_equal(gfmd_green_factor(GFMD_GREEN_LAYER_FLUID, INFINITY, 0.0, &f), GFMD_ERR_INVALID_ARG);
+    assert_int_equal(gfmd_green_factor(GFMD_GREEN_LAYER_FLUID, 1e-120, 0.0, &f), GFMD_ERR_RANGE);
+    assert_int_equal(gfmd_green_factor(GFMD_GREEN_LAYER_BONDED, 1.0, 0.7, &f), GFMD_ERR_INVALID_ARG);
+    assert_int_equal(gfmd_green_factor(GFMD_GREEN_LAYER_BONDED, 1.0, NAN, &f), GFMD_ERR_INVALID_ARG);
+    assert_int_equal(gfmd_green_factor(7, 1.0, 0.0, &f), GFMD_ERR_BAD_ENUM);
+    assert_int_equal(gfmd_green_factor(GFMD_GREEN_LAYER_FLUID, 1.0, 0.0, NULL), GFMD_ERR_NULL);
+    assert_true(f == 42.0); /* failed calls leave the output alone */
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(reference_values),      cmocka_unit_test(closed_form_overlap),
+        cmocka_unit_test(thin_plate_limit),      cmocka_unit_test(large_t_limit),
+        cmocka_unit_test(finite_and_monotone_everywhere), cmocka_unit_test(bad_arguments),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,30 @@
+/* Shared helpers of the C tests: checked calls and an independent FFT-based evaluation of the
+ * model's elastic quantities (test-side code, not the library's). */
+#ifndef GFMD_TEST_SUPPORT_H
+#define GFMD_TEST_SUPPORT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "gfmd.h"
+
+/* Fail the current CMocka test with the library's message if st != GFMD_OK. */
+#define TS_OK(sim, call) ts_check_ok((sim), (call), #call, __FILE__, __LINE__)
+void ts_check_ok(const gfmd_sim *s, int32_t st, const char *what, const char *file, int line);
+
+gfmd_sim *ts_create(int64_t nx, int64_t ny, double lx, double ly);
+double *ts_alloc(size_t n); /* zeroed doubles; freed with free() */
+
+/* Stiffness 1/G(q) = q E* / (2 f(q w)) of mode (kx, ky) of the r2c half-spectrum; 0 for q = 0. */
+double ts_stiffness(int32_t kind, double width, double nu, double e_star, double qx, double qy);
+double ts_qx(int64_t kx, int64_t nx, double lx);
+double ts_qy(int64_t ky, int64_t ny, double ly);
+
+/* Elastic energy (A/2) sum_q |u(q)|^2/G(q) of the field z, evaluated with FFTW by the test. */
+double ts_elastic_energy(int64_t nx, int64_t ny, double lx, double ly, int32_t kind, double width, double nu,
+                         double e_star, const double *z);
+
+/* Relative difference |a - b| / max(|b|, tiny). */
+double ts_rel(double a, double b);
+
+#endif
