@@ -19,7 +19,7 @@
  * Every call that can fail returns an int32_t status, GFMD_OK (0) on success.  A failed call leaves
  * the handle usable and its state unchanged (GFMD_ERR_NOT_CONVERGED keeps the progress made, as
  * documented at gfmd_relax()).  The message of the last failure on a handle is kept in the handle:
- * gfmd_last_error().  The library never aborts or exits on user input.
+ * gfmd_last_error(), until the next failure.  The library never aborts or exits on user input.
  *
  * @par Thread contract
  * Distinct handles are independent and may be used from different threads at the same time.  One
@@ -80,7 +80,8 @@ GFMD_API const char *gfmd_status_string(int32_t status);
 /**
  * Copy the message of the last failed call on @p s into @p buf (capacity @p len bytes).
  * The copy is always NUL-terminated when len >= 1.  Returns GFMD_OK, or GFMD_ERR_TRUNCATED when
- * the message did not fit (use gfmd_last_error_length()).  The message is "" after success.
+ * the message did not fit (use gfmd_last_error_length()).  The message is "" if no call on the
+ * handle has failed yet; a successful call does not clear it.
  */
 GFMD_API int32_t gfmd_last_error(const gfmd_sim *s, char *buf, int64_t len);
 
@@ -93,8 +94,9 @@ GFMD_API int32_t gfmd_last_error_length(const gfmd_sim *s, int64_t *needed);
  * Create a simulation of nx x ny points on a periodic cell lx x ly.  The body starts as a
  * half-space with E* = 1, flat substrate h = 0, no load, no adhesion.
  * @param out receives the handle; set to NULL on failure.
- * @return GFMD_ERR_INVALID_ARG for non-positive or non-finite sizes, GFMD_ERR_NOMEM if the grid
- *         does not fit in memory.
+ * @return GFMD_ERR_INVALID_ARG for non-positive sizes, nx or ny above 2^30, or lengths that are not
+ *         within [1e-100, 1e100] (NaN, inf), GFMD_ERR_NOMEM if the grid does not fit in the
+ *         machine's physical memory (about 64 bytes per point) or allocation fails.
  */
 GFMD_API int32_t gfmd_sim_create(int64_t nx, int64_t ny, double lx, double ly, gfmd_sim **out);
 
@@ -132,8 +134,8 @@ GFMD_API int32_t gfmd_green_factor(int32_t kind, double t, double nu, double *f)
 /* ---------------------------------------------------------------- the substrate */
 
 /**
- * Set the nx*ny substrate heights (x fastest), all finite.  The body is reset to flat at the
- * highest substrate point, at rest.
+ * Set the nx*ny substrate heights (x fastest), all finite and at most 1e100 in magnitude.  The
+ * body is reset to flat at the highest substrate point, at rest.
  */
 GFMD_API int32_t gfmd_set_heights(gfmd_sim *s, const double *h);
 
@@ -147,8 +149,8 @@ GFMD_API int32_t gfmd_get_heights(const gfmd_sim *s, double *h);
  * equal second moment) from a portable generator seeded by @p seed, so a seed gives the same
  * surface on every machine.  Scaled so that the spectral rms gradient sqrt(<|grad h|^2>) equals
  * @p rms_gradient, shifted so that max h = 0.  Resets the body like gfmd_set_heights().
- * Requires 0 <= hurst <= 1, lambda_r >= lambda_s >= 2 grid spacings, rms_gradient > 0, and at least
- * one Fourier mode of the grid with q <= q_s.
+ * Requires 0 <= hurst <= 1, lambda_r >= lambda_s >= 2 grid spacings (the larger spacing if the
+ * cells are not square), lambda_s <= the cell, 0 < rms_gradient with rms_gradient * L <= 1e100.
  */
 GFMD_API int32_t gfmd_generate_selfaffine(gfmd_sim *s, double hurst, double lambda_r, double lambda_s,
                                           double rms_gradient, uint64_t seed, int32_t distribution);

@@ -109,7 +109,8 @@ int32_t gfmd_sim_create(int64_t nx, int64_t ny, double lx, double ly, gfmd_sim *
     if (out == nullptr) return GFMD_ERR_NULL;
     *out = nullptr;
     if (nx <= 0 || ny <= 0 || nx > (INT64_C(1) << 30) || ny > (INT64_C(1) << 30)) return GFMD_ERR_INVALID_ARG;
-    if (!std::isfinite(lx) || !std::isfinite(ly) || lx <= 0.0 || ly <= 0.0) return GFMD_ERR_INVALID_ARG;
+    if (!(lx >= gfmd::kMinLength && lx <= gfmd::kMaxLength && ly >= gfmd::kMinLength && ly <= gfmd::kMaxLength))
+        return GFMD_ERR_INVALID_ARG;  // also catches NaN
     if (!fits_in_memory(nx, ny)) return GFMD_ERR_NOMEM;
     try {
         auto handle = std::make_unique<gfmd_sim>();

@@ -144,7 +144,9 @@ void Simulation::set_poisson(double nu) {
 
 void Simulation::set_heights(const double *h) {
     for (int64_t i = 0; i < n_; ++i)
-        if (!std::isfinite(h[i])) fail(GFMD_ERR_INVALID_ARG, "height " + std::to_string(i) + " is not finite");
+        if (!std::isfinite(h[i]) || std::fabs(h[i]) > kMaxHeight)
+            fail(GFMD_ERR_INVALID_ARG, "height " + std::to_string(i) + " = " + num(h[i]) +
+                                           " is not finite or exceeds 1e100 in magnitude");
     std::copy(h, h + n_, h_.data());
     reset();
 }

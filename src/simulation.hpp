@@ -11,6 +11,11 @@
 
 namespace gfmd {
 
+// Heights and lengths are limited to 1e100 in magnitude so that no sum of squares of the fields
+// (energies, FFT power) can overflow.
+constexpr double kMaxHeight = 1e100;
+constexpr double kMinLength = 1e-100, kMaxLength = 1e100;
+
 class Simulation {
 public:
     Simulation(int64_t nx, int64_t ny, double lx, double ly);

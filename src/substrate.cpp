@@ -36,6 +36,8 @@ void validate_selfaffine(const FftGrid &grid, const SelfAffineParams &p) {
     if (p.lambda_s < 2.0 * spacing * (1.0 - 1e-12))
         fail(GFMD_ERR_INVALID_ARG, "lambda_s = " + std::to_string(p.lambda_s) +
                                        " is below two grid spacings (" + std::to_string(2.0 * spacing) + ")");
+    if (p.rms_gradient * std::max(grid.lx(), grid.ly()) > 1e100)
+        fail(GFMD_ERR_INVALID_ARG, "rms_gradient times the cell length exceeds 1e100");
     if (p.distribution != GFMD_DIST_UNIFORM && p.distribution != GFMD_DIST_GAUSSIAN)
         fail(GFMD_ERR_BAD_ENUM, "unknown distribution " + std::to_string(p.distribution));
     if (p.lambda_s > std::max(grid.lx(), grid.ly()) * (1.0 + 1e-12))

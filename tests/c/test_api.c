@@ -1,0 +1,285 @@
+/* Test 7: every API function with bad input: NULL handle, NULL output, non-positive sizes,
+ * NaN/inf/negative parameters, unknown enum values and impossible combinations give the documented
+ * status and a message, and the handle stays usable and unchanged. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "gfmd.h"
+#include "test_support.h"
+
+enum { NX = 32, NY = 24 };
+
+/* Everything observable about a handle. */
+typedef struct {
+    double h[NX * NY], z[NX * NY], p[NX * NY];
+    double area, gap, u_el, u_ad, dt, eta, residual;
+} snapshot;
+
+static void take(const gfmd_sim *s, snapshot *out) {
+    memset(out, 0, sizeof *out);
+    TS_OK(s, gfmd_get_heights(s, out->h));
+    TS_OK(s, gfmd_get_surface(s, out->z));
+    TS_OK(s, gfmd_get_pressure(s, out->p));
+    TS_OK(s, gfmd_get_contact_area(s, &out->area));
+    TS_OK(s, gfmd_get_mean_gap(s, &out->gap));
+    TS_OK(s, gfmd_get_energies(s, &out->u_el, &out->u_ad));
+    TS_OK(s, gfmd_get_dynamics(s, &out->dt, &out->eta));
+    TS_OK(s, gfmd_get_residual(s, &out->residual));
+}
+
+static int setup(void **state) {
+    gfmd_sim *s = NULL;
+    if (gfmd_sim_create(NX, NY, 32.0, 24.0, &s) != GFMD_OK) return -1;
+    if (gfmd_generate_selfaffine(s, 0.8, 12.0, 3.0, 1.0, 3, GFMD_DIST_UNIFORM) != GFMD_OK) return -1;
+    if (gfmd_set_pressure(s, 0.05) != GFMD_OK) return -1;
+    if (gfmd_relax(s, 0.0, 10000, NULL) != GFMD_OK) return -1;
+    *state = s;
+    return 0;
+}
+
+static int teardown(void **state) {
+    gfmd_sim *s = *state;
+    gfmd_sim_destroy(&s);
+    return 0;
+}
+
+/* The call failed with `expected`, left a message, and changed nothing. */
+static void expect_failure(gfmd_sim *s, int32_t status, int32_t expected, const char *what) {
+    if (status != expected)
+        fail_msg("%s: got %s, expected %s", what, gfmd_status_string(status), gfmd_status_string(expected));
+    char msg[256] = "";
+    int64_t needed = 0;
+    assert_int_equal(gfmd_last_error(s, msg, sizeof msg), GFMD_OK);
+    assert_int_equal(gfmd_last_error_length(s, &needed), GFMD_OK);
+    assert_true(strlen(msg) > 0);
+    assert_int_equal(needed, (int64_t)strlen(msg) + 1);
+}
+
+#define EXPECT(s, call, code)                                   \
+    do {                                                        \
+        static snapshot before_, after_;                        \
+        take((s), &before_);                                    \
+        expect_failure((s), (call), (code), #call);             \
+        take((s), &after_);                                     \
+        assert_memory_equal(&before_, &after_, sizeof before_); \
+    } while (0)
+
+static void null_handle(void **state) {
+    (void)state;
+    double x = 0, y = 0, f[4] = {0};
+    int64_t i = 0;
+    char buf[8];
+    assert_int_equal(gfmd_get_grid(NULL, &i, &i, &x, &x), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_set_modulus(NULL, 1.0), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_set_green(NULL, GFMD_GREEN_HALFSPACE, 0.0), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_set_poisson(NULL, 0.3), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_set_heights(NULL, f), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_get_heights(NULL, f), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_generate_selfaffine(NULL, 0.8, 8, 4, 1, 1, 0), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_set_pressure(NULL, 0.1), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_set_adhesion(NULL, 0.1, 1.0), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_set_timestep(NULL, 0.1), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_set_damping(NULL, 0.1), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_set_solver(NULL, GFMD_SOLVER_FIRE), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_get_dynamics(NULL, &x, &y), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_step(NULL, 1), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_relax(NULL, 0.0, 10, &i), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_get_residual(NULL, &x), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_reset(NULL), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_get_contact_area(NULL, &x), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_get_mean_gap(NULL, &x), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_get_energies(NULL, &x, &y), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_get_gap(NULL, f), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_get_surface(NULL, f), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_get_pressure(NULL, f), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_last_error(NULL, buf, sizeof buf), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_last_error_length(NULL, &i), GFMD_ERR_NULL);
+    gfmd_sim_destroy(NULL); /* accepted */
+    gfmd_sim *none = NULL;
+    gfmd_sim_destroy(&none);
+    assert_null(none);
+}
+
+static void create_and_destroy(void **state) {
+    (void)state;
+    gfmd_sim *s = (gfmd_sim *)&s; /* garbage that must be overwritten with NULL on failure */
+    assert_int_equal(gfmd_sim_create(8, 8, 1.0, 1.0, NULL), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_sim_create(0, 8, 1.0, 1.0, &s), GFMD_ERR_INVALID_ARG);
+    assert_null(s);
+    assert_int_equal(gfmd_sim_create(8, -3, 1.0, 1.0, &s), GFMD_ERR_INVALID_ARG);
+    assert_int_equal(gfmd_sim_create(8, 8, 0.0, 1.0, &s), GFMD_ERR_INVALID_ARG);
+    assert_int_equal(gfmd_sim_create(8, 8, 1.0, -1.0, &s), GFMD_ERR_INVALID_ARG);
+    assert_int_equal(gfmd_sim_create(8, 8, NAN, 1.0, &s), GFMD_ERR_INVALID_ARG);
+    assert_int_equal(gfmd_sim_create(8, 8, 1.0, INFINITY, &s), GFMD_ERR_INVALID_ARG);
+    assert_int_equal(gfmd_sim_create(8, 8, 1e300, 1.0, &s), GFMD_ERR_INVALID_ARG);
+    assert_int_equal(gfmd_sim_create(INT64_MAX, 8, 1.0, 1.0, &s), GFMD_ERR_INVALID_ARG);
+    /* 2^30 x 2^30 points cannot be held by any machine: refused up front, not by the OOM killer */
+    assert_int_equal(gfmd_sim_create(INT64_C(1) << 30, INT64_C(1) << 30, 1.0, 1.0, &s), GFMD_ERR_NOMEM);
+    assert_null(s);
+    /* the smallest grids work */
+    assert_int_equal(gfmd_sim_create(1, 1, 1.0, 1.0, &s), GFMD_OK);
+    assert_int_equal(gfmd_set_pressure(s, 0.1), GFMD_OK);
+    assert_int_equal(gfmd_relax(s, 0.0, 100, NULL), GFMD_OK);
+    gfmd_sim_destroy(&s);
+    assert_null(s);
+    gfmd_sim_destroy(&s); /* double destroy is harmless */
+    int64_t nx = 0, ny = 0;
+    double lx = 0, ly = 0;
+    assert_int_equal(gfmd_sim_create(5, 3, 2.5, 1.5, &s), GFMD_OK);
+    assert_int_equal(gfmd_get_grid(s, &nx, &ny, &lx, &ly), GFMD_OK);
+    assert_true(nx == 5 && ny == 3 && lx == 2.5 && ly == 1.5);
+    gfmd_sim_destroy(&s);
+}
+
+static void null_outputs(void **state) {
+    gfmd_sim *s = *state;
+    EXPECT(s, gfmd_set_heights(s, NULL), GFMD_ERR_NULL);
+    EXPECT(s, gfmd_get_heights(s, NULL), GFMD_ERR_NULL);
+    EXPECT(s, gfmd_get_residual(s, NULL), GFMD_ERR_NULL);
+    EXPECT(s, gfmd_get_contact_area(s, NULL), GFMD_ERR_NULL);
+    EXPECT(s, gfmd_get_mean_gap(s, NULL), GFMD_ERR_NULL);
+    double x = 0;
+    EXPECT(s, gfmd_get_energies(s, NULL, &x), GFMD_ERR_NULL);
+    EXPECT(s, gfmd_get_energies(s, &x, NULL), GFMD_ERR_NULL);
+    EXPECT(s, gfmd_get_gap(s, NULL), GFMD_ERR_NULL);
+    EXPECT(s, gfmd_get_surface(s, NULL), GFMD_ERR_NULL);
+    EXPECT(s, gfmd_get_pressure(s, NULL), GFMD_ERR_NULL);
+    char msg[128] = "";
+    gfmd_get_pressure(s, NULL);
+    gfmd_last_error(s, msg, sizeof msg);
+    assert_non_null(strstr(msg, "'p'")); /* the message names the argument */
+}
+
+static void bad_parameters(void **state) {
+    gfmd_sim *s = *state;
+    const double bad[] = {NAN, INFINITY, -INFINITY};
+    for (int i = 0; i < 3; ++i) {
+        EXPECT(s, gfmd_set_modulus(s, bad[i]), GFMD_ERR_INVALID_ARG);
+        EXPECT(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, bad[i]), GFMD_ERR_INVALID_ARG);
+        EXPECT(s, gfmd_set_poisson(s, bad[i]), GFMD_ERR_INVALID_ARG);
+        EXPECT(s, gfmd_set_pressure(s, bad[i]), GFMD_ERR_INVALID_ARG);
+        EXPECT(s, gfmd_set_adhesion(s, bad[i], 1.0), GFMD_ERR_INVALID_ARG);
+        EXPECT(s, gfmd_set_adhesion(s, 0.01, bad[i]), GFMD_ERR_INVALID_ARG);
+        EXPECT(s, gfmd_set_timestep(s, bad[i]), GFMD_ERR_INVALID_ARG);
+        EXPECT(s, gfmd_set_damping(s, bad[i]), GFMD_ERR_INVALID_ARG);
+    }
+    EXPECT(s, gfmd_set_modulus(s, 0.0), GFMD_ERR_INVALID_ARG);
+    EXPECT(s, gfmd_set_modulus(s, -1.0), GFMD_ERR_INVALID_ARG);
+    EXPECT(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 0.0), GFMD_ERR_INVALID_ARG);
+    EXPECT(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, -2.0), GFMD_ERR_INVALID_ARG);
+    EXPECT(s, gfmd_set_poisson(s, 0.51), GFMD_ERR_INVALID_ARG);
+    EXPECT(s, gfmd_set_poisson(s, -1.0), GFMD_ERR_INVALID_ARG);
+    EXPECT(s, gfmd_set_pressure(s, -1e-3), GFMD_ERR_INVALID_ARG);
+    EXPECT(s, gfmd_set_adhesion(s, -0.1, 1.0), GFMD_ERR_INVALID_ARG);
+    EXPECT(s, gfmd_set_adhesion(s, 0.1, 0.0), GFMD_ERR_INVALID_ARG);
+    EXPECT(s, gfmd_set_adhesion(s, 1e300, 1e-300), GFMD_ERR_RANGE);
+    EXPECT(s, gfmd_set_timestep(s, -0.1), GFMD_ERR_INVALID_ARG);
+    EXPECT(s, gfmd_set_damping(s, -0.1), GFMD_ERR_INVALID_ARG);
+    EXPECT(s, gfmd_step(s, -1), GFMD_ERR_INVALID_ARG);
+    EXPECT(s, gfmd_relax(s, 0.0, 0, NULL), GFMD_ERR_INVALID_ARG);
+    EXPECT(s, gfmd_relax(s, NAN, 10, NULL), GFMD_ERR_INVALID_ARG);
+    double h[NX * NY];
+    TS_OK(s, gfmd_get_heights(s, h));
+    h[17] = NAN;
+    EXPECT(s, gfmd_set_heights(s, h), GFMD_ERR_INVALID_ARG);
+    h[17] = INFINITY;
+    EXPECT(s, gfmd_set_heights(s, h), GFMD_ERR_INVALID_ARG);
+    h[17] = 1e300; /* finite, but beyond the documented 1e100 (its energy would overflow) */
+    EXPECT(s, gfmd_set_heights(s, h), GFMD_ERR_INVALID_ARG);
+    EXPECT(s, gfmd_generate_selfaffine(s, 0.8, 12.0, 3.0, 1e300, 3, 0), GFMD_ERR_INVALID_ARG);
+    EXPECT(s, gfmd_generate_selfaffine(s, -0.1, 12.0, 3.0, 1.0, 3, 0), GFMD_ERR_INVALID_ARG);
+}
+
+static void bad_enums_and_combinations(void **state) {
+    gfmd_sim *s = *state;
+    EXPECT(s, gfmd_set_green(s, 3, 1.0), GFMD_ERR_BAD_ENUM);
+    EXPECT(s, gfmd_set_green(s, -1, 1.0), GFMD_ERR_BAD_ENUM);
+    EXPECT(s, gfmd_set_solver(s, 2), GFMD_ERR_BAD_ENUM);
+    EXPECT(s, gfmd_generate_selfaffine(s, 0.8, 12.0, 3.0, 1.0, 3, 2), GFMD_ERR_BAD_ENUM);
+    /* the bonded layer needs Poisson's ratio first */
+    EXPECT(s, gfmd_set_green(s, GFMD_GREEN_LAYER_BONDED, 2.0), GFMD_ERR_STATE);
+    /* an incompressible bonded layer so thin that its stiffness overflows */
+    TS_OK(s, gfmd_set_poisson(s, 0.5));
+    EXPECT(s, gfmd_set_green(s, GFMD_GREEN_LAYER_BONDED, 1e-110), GFMD_ERR_RANGE);
+    TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_BONDED, 2.0));
+    TS_OK(s, gfmd_relax(s, 0.0, 10000, NULL));
+    EXPECT(s, gfmd_set_poisson(s, 0.7), GFMD_ERR_INVALID_ARG);
+}
+
+static void not_converged_keeps_progress(void **state) {
+    gfmd_sim *s = *state;
+    TS_OK(s, gfmd_set_pressure(s, 0.2));
+    int64_t steps = 0;
+    double r0 = 0, r1 = 0;
+    TS_OK(s, gfmd_get_residual(s, &r0));
+    assert_int_equal(gfmd_relax(s, 1e-12, 3, &steps), GFMD_ERR_NOT_CONVERGED);
+    assert_int_equal(steps, 3);
+    char msg[200];
+    gfmd_last_error(s, msg, sizeof msg);
+    assert_non_null(strstr(msg, "not converged"));
+    TS_OK(s, gfmd_get_residual(s, &r1));
+    assert_true(r1 != r0); /* progress kept, and a later call continues from it */
+    TS_OK(s, gfmd_relax(s, 0.0, 10000, &steps));
+}
+
+static void divergence_restores_state(void **state) {
+    gfmd_sim *s = *state;
+    double dt = 0;
+    TS_OK(s, gfmd_get_dynamics(s, &dt, NULL));
+    TS_OK(s, gfmd_set_solver(s, GFMD_SOLVER_VERLET));
+    TS_OK(s, gfmd_set_pressure(s, 0.1));
+    TS_OK(s, gfmd_set_timestep(s, 50.0 * dt)); /* far beyond the stability limit 2/omega_max */
+    EXPECT(s, gfmd_step(s, 100000), GFMD_ERR_DIVERGED);
+    EXPECT(s, gfmd_relax(s, 0.0, 100000, NULL), GFMD_ERR_DIVERGED);
+    char msg[300];
+    gfmd_last_error(s, msg, sizeof msg);
+    assert_non_null(strstr(msg, "dt"));
+    TS_OK(s, gfmd_set_timestep(s, 0.0)); /* back to automatic: usable again */
+    TS_OK(s, gfmd_relax(s, 0.0, 100000, NULL));
+}
+
+static void messages(void **state) {
+    gfmd_sim *s = *state;
+    assert_int_equal(gfmd_set_modulus(s, -5.0), GFMD_ERR_INVALID_ARG);
+    int64_t needed = 0;
+    TS_OK(s, gfmd_last_error_length(s, &needed));
+    assert_true(needed > 5);
+    char small[5] = "xxxx";
+    assert_int_equal(gfmd_last_error(s, small, sizeof small), GFMD_ERR_TRUNCATED);
+    assert_int_equal(strlen(small), 4); /* truncated and NUL-terminated */
+    char big[256];
+    assert_int_equal(gfmd_last_error(s, big, sizeof big), GFMD_OK);
+    assert_int_equal((int64_t)strlen(big) + 1, needed);
+    assert_non_null(strstr(big, "E*"));
+    assert_int_equal(gfmd_last_error(s, big, 0), GFMD_ERR_INVALID_ARG);
+    assert_int_equal(gfmd_last_error(s, NULL, 10), GFMD_ERR_NULL);
+    /* every status has its own text; unknown ones get a fixed text */
+    for (int32_t c = GFMD_OK; c < GFMD_STATUS_END_; ++c) {
+        assert_non_null(gfmd_status_string(c));
+        assert_string_not_equal(gfmd_status_string(c), "unknown status");
+    }
+    assert_string_equal(gfmd_status_string(-1), "unknown status");
+    assert_string_equal(gfmd_status_string(1000), "unknown status");
+    assert_string_equal(gfmd_version(), GFMD_VERSION_STRING);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(null_handle),
+        cmocka_unit_test(create_and_destroy),
+        cmocka_unit_test_setup_teardown(null_outputs, setup, teardown),
+        cmocka_unit_test_setup_teardown(bad_parameters, setup, teardown),
+        cmocka_unit_test_setup_teardown(bad_enums_and_combinations, setup, teardown),
+        cmocka_unit_test_setup_teardown(not_converged_keeps_progress, setup, teardown),
+        cmocka_unit_test_setup_teardown(divergence_restores_state, setup, teardown),
+        cmocka_unit_test_setup_teardown(messages, setup, teardown),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
