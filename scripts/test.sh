@@ -6,32 +6,47 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 jobs="$(nproc)"
 "$root/scripts/setup.sh" valgrind
+passed=0
+failed=0
+# run_ctest DIR: ctest in DIR, adding its counts to the totals
+run_ctest() {
+  local log
+  log="$(mktemp)"
+  if ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+       ctest --test-dir "$1" --output-on-failure -j "$jobs" 2>&1 | tee "$log"; then :; fi
+  local total bad
+  total="$(sed -n 's/.*tests passed, \([0-9]*\) tests failed out of \([0-9]*\).*/\2/p' "$log" | tail -n 1)"
+  bad="$(sed -n 's/.*tests passed, \([0-9]*\) tests failed out of \([0-9]*\).*/\1/p' "$log" | tail -n 1)"
+  rm -f "$log"
+  if [ -z "$total" ]; then failed=$((failed + 1)); return; fi
+  passed=$((passed + total - bad))
+  failed=$((failed + bad))
+}
+summary() { echo "test.sh: $passed passed, $failed failed"; [ "$failed" -eq 0 ]; }
 
 echo "== release build: the test suite"
 cmake -S "$root" -B "$root/build" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$root/build" -j "$jobs"
-ctest --test-dir "$root/build" --output-on-failure -j "$jobs"
-if [ "${1:-}" = "--quick" ]; then exit 0; fi
+run_ctest "$root/build"
+if [ "${1:-}" = "--quick" ]; then summary; exit $?; fi
 
 echo "== AddressSanitizer + UndefinedBehaviorSanitizer build: the test suite"
 cmake -S "$root" -B "$root/build-sanitize" -DCMAKE_BUILD_TYPE=Debug -DGFMD_SANITIZE=ON >/dev/null
 cmake --build "$root/build-sanitize" -j "$jobs"
-ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  ctest --test-dir "$root/build-sanitize" --output-on-failure -j "$jobs"
+run_ctest "$root/build-sanitize"
 
 echo "== valgrind memcheck: every unit test of the release build"
 logs="$root/build/valgrind"
 mkdir -p "$logs"
-status=0
 for t in "$root"/build/tests/test_*; do
   [ -x "$t" ] || continue
   name="$(basename "$t")"
   if (cd "$root/build/tests" && valgrind -q --error-exitcode=99 --leak-check=full \
         --errors-for-leak-kinds=definite,indirect --show-leak-kinds=definite,indirect \
         "$t" >"$logs/$name.log" 2>&1); then
-    echo "valgrind $name: clean"
+    echo "valgrind $name: clean"; passed=$((passed + 1))
   else
-    echo "valgrind $name: FAILED"; tail -n 40 "$logs/$name.log"; status=1
+    echo "valgrind $name: FAILED"; tail -n 40 "$logs/$name.log"; failed=$((failed + 1))
   fi
 done
-exit $status
+summary

@@ -1,0 +1,31 @@
+# cmake -DBUILD_DIR=<gfmd build> -DSOURCE_DIR=<gfmd source> -DWORK=<scratch> -P run_consumers.cmake
+# Installs the built library into a scratch prefix, then builds and runs the consumer projects the
+# way a user would: CMake find_package, and the documented one-line pkg-config command.
+function(run)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  message("${out}")
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "failed (${rc}): ${ARGN}\n${err}")
+  endif()
+endfunction()
+
+set(prefix ${WORK}/prefix)
+file(REMOVE_RECURSE ${WORK})
+run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
+
+# CMake: find_package(gfmd)
+run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/package/c -B ${WORK}/c-cmake -DCMAKE_PREFIX_PATH=${prefix})
+run(${CMAKE_COMMAND} --build ${WORK}/c-cmake)
+set(ENV{LD_LIBRARY_PATH} "${prefix}/lib:$ENV{LD_LIBRARY_PATH}")
+run(${WORK}/c-cmake/consumer)
+
+# pkg-config: cc consumer.c $(pkg-config --cflags --libs gfmd)
+set(ENV{PKG_CONFIG_PATH} "${prefix}/lib/pkgconfig")
+execute_process(COMMAND pkg-config --cflags --libs gfmd OUTPUT_VARIABLE flags OUTPUT_STRIP_TRAILING_WHITESPACE
+                RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "pkg-config does not know gfmd")
+endif()
+separate_arguments(flags UNIX_COMMAND "${flags}")
+run(cc ${SOURCE_DIR}/tests/package/c/consumer.c ${flags} -o ${WORK}/consumer-pc)
+run(${WORK}/consumer-pc)
