@@ -100,6 +100,12 @@ GFMD_API int32_t gfmd_last_error_length(const gfmd_sim *s, int64_t *needed);
  */
 GFMD_API int32_t gfmd_sim_create(int64_t nx, int64_t ny, double lx, double ly, gfmd_sim **out);
 
+/**
+ * Deep copy: *out receives a new, independent handle in the same state as @p s (substrate,
+ * configuration, parameters, solver state; not the last error message).  *out is NULL on failure.
+ */
+GFMD_API int32_t gfmd_sim_clone(const gfmd_sim *s, gfmd_sim **out);
+
 /** Destroy the handle in *sim and set *sim = NULL.  Accepts sim == NULL and *sim == NULL. */
 GFMD_API void gfmd_sim_destroy(gfmd_sim **sim);
 

@@ -126,6 +126,18 @@ int32_t gfmd_sim_create(int64_t nx, int64_t ny, double lx, double ly, gfmd_sim *
     }
 }
 
+int32_t gfmd_sim_clone(const gfmd_sim *s, gfmd_sim **out) {
+    if (out == nullptr) return GFMD_ERR_NULL;
+    *out = nullptr;
+    return guarded(s, [&](const gfmd::Simulation &m) {
+        if (!fits_in_memory(m.grid().nx(), m.grid().ny()))
+            fail(GFMD_ERR_NOMEM, "a copy of this grid does not fit in physical memory");
+        auto handle = std::make_unique<gfmd_sim>();
+        handle->sim = m.clone();
+        *out = handle.release();
+    });
+}
+
 void gfmd_sim_destroy(gfmd_sim **sim) {
     if (sim == nullptr || *sim == nullptr) return;
     delete *sim;

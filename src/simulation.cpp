@@ -58,6 +58,33 @@ Simulation::Simulation(int64_t nx, int64_t ny, double lx, double ly)
     reset();
 }
 
+std::unique_ptr<Simulation> Simulation::clone() const {
+    auto c = std::make_unique<Simulation>(grid_.nx(), grid_.ny(), grid_.lx(), grid_.ly());
+    auto copy = [](const RealBuffer &from, RealBuffer &to) { std::copy(from.data(), from.data() + from.size(), to.data()); };
+    c->e_star_ = e_star_;
+    c->kind_ = kind_;
+    c->width_ = width_;
+    c->nu_ = nu_;
+    c->sigma0_ = sigma0_;
+    c->gamma0_ = gamma0_;
+    c->rho_ = rho_;
+    c->dt_user_ = dt_user_;
+    c->eta_user_ = eta_user_;
+    c->solver_ = solver_;
+    copy(stiff_, c->stiff_);
+    c->k_min_ = k_min_;
+    c->k_max_ = k_max_;
+    c->update_dynamics();
+    copy(h_, c->h_);
+    copy(z_, c->z_);
+    copy(v_, c->v_);
+    c->evaluate_forces();
+    c->fire_dt_ = fire_dt_;
+    c->fire_alpha_ = fire_alpha_;
+    c->fire_positive_ = fire_positive_;
+    return c;
+}
+
 RealBuffer Simulation::stiffness_for(int32_t kind, double width, double e_star, double nu) const {
     RealBuffer k(static_cast<std::size_t>(grid_.complex_size()));
     const int64_t nxh = grid_.nxh();

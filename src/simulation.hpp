@@ -4,6 +4,7 @@
 #define GFMD_SRC_SIMULATION_HPP
 
 #include <cstdint>
+#include <memory>
 
 #include "buffer.hpp"
 #include "fft_grid.hpp"
@@ -19,6 +20,8 @@ constexpr double kMinLength = 1e-100, kMaxLength = 1e100;
 class Simulation {
 public:
     Simulation(int64_t nx, int64_t ny, double lx, double ly);
+    // Deep copy: an independent simulation in the same state (parameters, fields, solver state).
+    std::unique_ptr<Simulation> clone() const;
 
     const FftGrid &grid() const { return grid_; }
 

@@ -245,6 +245,29 @@ static void divergence_restores_state(void **state) {
     TS_OK(s, gfmd_relax(s, 0.0, 100000, NULL));
 }
 
+static void clone_is_independent(void **state) {
+    gfmd_sim *s = *state, *c = NULL;
+    static snapshot a, b;
+    assert_int_equal(gfmd_sim_clone(NULL, &c), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_sim_clone(s, NULL), GFMD_ERR_NULL);
+    TS_OK(s, gfmd_sim_clone(s, &c));
+    take(s, &a);
+    take(c, &b);
+    assert_memory_equal(&a, &b, sizeof a); /* same state */
+    /* the copy continues exactly like the original, and changing it leaves the original alone */
+    TS_OK(s, gfmd_step(s, 7));
+    TS_OK(c, gfmd_step(c, 7));
+    take(s, &a);
+    take(c, &b);
+    assert_memory_equal(&a, &b, sizeof a);
+    TS_OK(c, gfmd_set_pressure(c, 0.3));
+    TS_OK(c, gfmd_relax(c, 0.0, 10000, NULL));
+    static snapshot a2;
+    take(s, &a2);
+    assert_memory_equal(&a, &a2, sizeof a);
+    gfmd_sim_destroy(&c);
+}
+
 static void messages(void **state) {
     gfmd_sim *s = *state;
     assert_int_equal(gfmd_set_modulus(s, -5.0), GFMD_ERR_INVALID_ARG);
@@ -280,6 +303,7 @@ int main(void) {
         cmocka_unit_test_setup_teardown(not_converged_keeps_progress, setup, teardown),
         cmocka_unit_test_setup_teardown(divergence_restores_state, setup, teardown),
         cmocka_unit_test_setup_teardown(messages, setup, teardown),
+        cmocka_unit_test_setup_teardown(clone_is_independent, setup, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
