@@ -38,7 +38,7 @@ run_ctest "$root/build-sanitize"
 echo "== valgrind memcheck: every unit test of the release build"
 logs="$root/build/valgrind"
 mkdir -p "$logs"
-for t in "$root"/build/tests/test_*; do
+for t in "$root"/build/tests/test_* "$root"/build/tests/fortran/test_fortran_bindings; do
   [ -x "$t" ] || continue
   name="$(basename "$t")"
   if (cd "$root/build/tests" && valgrind -q --error-exitcode=99 --leak-check=full \

@@ -1,0 +1,511 @@
+!> gfmd for Fortran: Green's function molecular dynamics for the contact between a rigid rough
+!> substrate and an elastic half-space or thin layer (Putignano, Dapp & Mueser, Biomimetics 1, 7 (2016)).
+!>
+!>   use gfmd
+!>   type(gfmd_sim_t) :: sim
+!>   call sim%create(nx, ny, lx, ly)
+!>
+!> Fields are real(dp) arrays f(nx, ny): exactly the C layout (x fastest), passed without copies.
+!> Every procedure takes optional `stat` and `errmsg`: with `stat` present, errors are returned
+!> (stat /= GFMD_OK, errmsg set); without it, an error stops the program with the library's message.
+!> Free a simulation with `call sim%destroy()` (idempotent); the finalizer is only a safety net.
+!> Assignment `b = a` makes an independent deep copy, never a second owner of one handle.
+module gfmd
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr, c_associated, c_f_pointer, c_char, &
+                                         c_double, c_int32_t, c_int64_t
+  use, intrinsic :: iso_fortran_env, only: error_unit
+  use gfmd_c_api
+  implicit none
+  private
+
+  integer, parameter, public :: dp = c_double
+  include 'gfmd_constants.inc'
+
+  public :: gfmd_sim_t, gfmd_version, gfmd_status_string, gfmd_green_factor
+
+  !> A simulation: owns one C handle.
+  type :: gfmd_sim_t
+    private
+    type(c_ptr) :: ptr = c_null_ptr
+  contains
+    procedure :: create => sim_create
+    procedure :: destroy => sim_destroy
+    procedure :: is_created => sim_is_created
+    procedure :: copy_to => sim_copy_to
+    procedure :: get_grid => sim_get_grid
+    procedure :: set_modulus => sim_set_modulus
+    procedure :: set_green => sim_set_green
+    procedure :: set_poisson => sim_set_poisson
+    procedure :: set_heights => sim_set_heights
+    procedure :: get_heights => sim_get_heights
+    procedure :: generate_selfaffine => sim_generate_selfaffine
+    procedure :: set_pressure => sim_set_pressure
+    procedure :: set_adhesion => sim_set_adhesion
+    procedure :: set_timestep => sim_set_timestep
+    procedure :: set_damping => sim_set_damping
+    procedure :: set_solver => sim_set_solver
+    procedure :: get_dynamics => sim_get_dynamics
+    procedure :: step => sim_step
+    procedure :: relax => sim_relax
+    procedure :: get_residual => sim_get_residual
+    procedure :: reset => sim_reset
+    procedure :: get_contact_area => sim_get_contact_area
+    procedure :: get_mean_gap => sim_get_mean_gap
+    procedure :: get_energies => sim_get_energies
+    procedure :: get_gap => sim_get_gap
+    procedure :: get_surface => sim_get_surface
+    procedure :: get_pressure => sim_get_pressure
+    procedure :: last_error => sim_last_error
+    procedure, private :: sim_assign
+    generic :: assignment(=) => sim_assign
+    final :: sim_final
+  end type gfmd_sim_t
+
+contains
+
+  ! ------------------------------------------------------------------ helpers
+
+  !> Copy a NUL-terminated C string owned by the library.
+  function c_string(p) result(s)
+    type(c_ptr), intent(in) :: p
+    character(:), allocatable :: s
+    character(kind=c_char), pointer :: chars(:)
+    integer :: n, i
+    n = int(c_strlen(p))
+    call c_f_pointer(p, chars, [n])
+    allocate (character(len=n) :: s)
+    do i = 1, n
+      s(i:i) = chars(i)
+    end do
+  end function c_string
+
+  !> The handle's message of its last failure ('' if none or no handle).
+  function handle_message(p) result(msg)
+    type(c_ptr), intent(in) :: p
+    character(:), allocatable :: msg
+    character(kind=c_char), allocatable :: buf(:)
+    integer(c_int64_t) :: n
+    integer :: i
+    msg = ''
+    if (.not. c_associated(p)) return
+    if (c_gfmd_last_error_length(p, n) /= GFMD_OK) return
+    allocate (buf(n))
+    if (c_gfmd_last_error(p, buf, n) /= GFMD_OK) return
+    msg = repeat(" ", int(n) - 1)
+    do i = 1, int(n) - 1
+      msg(i:i) = buf(i)
+    end do
+  end function handle_message
+
+  !> Report the status of a call: set stat/errmsg, or stop with the message when stat is absent.
+  subroutine finish(p, st, where, stat, errmsg, detail)
+    type(c_ptr), intent(in) :: p
+    integer(c_int32_t), intent(in) :: st
+    character(*), intent(in) :: where
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    character(*), intent(in), optional :: detail
+    character(:), allocatable :: msg, why
+    if (present(stat)) stat = int(st)
+    if (st == GFMD_OK) then
+      if (present(errmsg)) errmsg = ''
+      return
+    end if
+    if (present(detail)) then
+      why = detail
+    else if (.not. c_associated(p) .and. st == GFMD_ERR_NULL) then
+      why = 'the simulation has not been created (call create first)'
+    else
+      why = handle_message(p)
+    end if
+    msg = 'gfmd: ' // where // ': ' // gfmd_status_string(int(st))
+    if (len(why) > 0) msg = msg // ': ' // why
+    if (present(errmsg)) errmsg = msg
+    if (.not. present(stat)) then
+      write (error_unit, '(a)') msg
+      error stop 1
+    end if
+  end subroutine finish
+
+  !> Check that a field argument is (nx, ny); report through finish if not.
+  logical function shape_ok(self, a, where, stat, errmsg)
+    class(gfmd_sim_t), intent(in) :: self
+    real(dp), intent(in) :: a(:, :)
+    character(*), intent(in) :: where
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    integer(c_int64_t) :: nx, ny
+    real(c_double) :: lx, ly
+    integer(c_int32_t) :: st
+    character(160) :: detail
+    shape_ok = .false.
+    st = c_gfmd_get_grid(self%ptr, nx, ny, lx, ly)
+    if (st /= GFMD_OK) then
+      call finish(self%ptr, st, where, stat, errmsg)
+      return
+    end if
+    if (size(a, 1, kind=c_int64_t) /= nx .or. size(a, 2, kind=c_int64_t) /= ny) then
+      write (detail, '(a,i0,a,i0,a,i0,a,i0,a)') 'the array is (', size(a, 1), ', ', size(a, 2), &
+        '), the grid is (nx, ny) = (', nx, ', ', ny, ')'
+      call finish(self%ptr, int(GFMD_ERR_INVALID_ARG, c_int32_t), where, stat, errmsg, trim(detail))
+      return
+    end if
+    shape_ok = .true.
+  end function shape_ok
+
+  ! ------------------------------------------------------------------ module procedures
+
+  !> Runtime version of the library, e.g. "0.1.0".
+  function gfmd_version() result(v)
+    character(:), allocatable :: v
+    v = c_string(c_gfmd_version())
+  end function gfmd_version
+
+  !> Description of a status code.
+  function gfmd_status_string(status) result(s)
+    integer, intent(in) :: status
+    character(:), allocatable :: s
+    s = c_string(c_gfmd_status_string(int(status, c_int32_t)))
+  end function gfmd_status_string
+
+  !> f(t) of G(q) = 2 f(q w)/(q E*) for a kind of body; nu (default 0) for the bonded layer.
+  subroutine gfmd_green_factor(kind, t, f, nu, stat, errmsg)
+    integer, intent(in) :: kind
+    real(dp), intent(in) :: t
+    real(dp), intent(out) :: f
+    real(dp), intent(in), optional :: nu
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    real(c_double) :: n, ff
+    integer(c_int32_t) :: st
+    n = 0.0_dp
+    if (present(nu)) n = nu
+    ff = 0.0_dp
+    st = c_gfmd_green_factor(int(kind, c_int32_t), t, n, ff)
+    f = ff
+    call finish(c_null_ptr, st, 'green_factor', stat, errmsg, '')
+  end subroutine gfmd_green_factor
+
+  ! ------------------------------------------------------------------ lifetime
+
+  !> Create an nx x ny simulation on an lx x ly cell (replacing one this object held).
+  subroutine sim_create(self, nx, ny, lx, ly, stat, errmsg)
+    class(gfmd_sim_t), intent(inout) :: self
+    integer, intent(in) :: nx, ny
+    real(dp), intent(in) :: lx, ly
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    type(c_ptr) :: p
+    integer(c_int32_t) :: st
+    st = c_gfmd_sim_create(int(nx, c_int64_t), int(ny, c_int64_t), lx, ly, p)
+    if (st == GFMD_OK) then
+      call c_gfmd_sim_destroy(self%ptr)
+      self%ptr = p
+    end if
+    call finish(c_null_ptr, st, 'create', stat, errmsg, '')
+  end subroutine sim_create
+
+  !> Free the simulation; safe to call again or on one never created.
+  subroutine sim_destroy(self)
+    class(gfmd_sim_t), intent(inout) :: self
+    call c_gfmd_sim_destroy(self%ptr)
+  end subroutine sim_destroy
+
+  logical function sim_is_created(self)
+    class(gfmd_sim_t), intent(in) :: self
+    sim_is_created = c_associated(self%ptr)
+  end function sim_is_created
+
+  !> Deep copy into `other` (its previous simulation is freed); stat-returning form of `other = self`.
+  subroutine sim_copy_to(self, other, stat, errmsg)
+    class(gfmd_sim_t), intent(in) :: self
+    class(gfmd_sim_t), intent(inout) :: other
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    type(c_ptr) :: p
+    integer(c_int32_t) :: st
+    if (c_associated(self%ptr, other%ptr)) then
+      call finish(self%ptr, int(GFMD_OK, c_int32_t), 'copy_to', stat, errmsg)
+      return
+    end if
+    p = c_null_ptr
+    st = GFMD_OK
+    if (c_associated(self%ptr)) st = c_gfmd_sim_clone(self%ptr, p)
+    if (st == GFMD_OK) then
+      call c_gfmd_sim_destroy(other%ptr)
+      other%ptr = p
+    end if
+    call finish(self%ptr, st, 'copy_to', stat, errmsg)
+  end subroutine sim_copy_to
+
+  !> other = self: a deep copy (stops the program with a message if the copy cannot be made).
+  subroutine sim_assign(lhs, rhs)
+    class(gfmd_sim_t), intent(inout) :: lhs
+    class(gfmd_sim_t), intent(in) :: rhs
+    call rhs%copy_to(lhs)
+  end subroutine sim_assign
+
+  subroutine sim_final(self)
+    type(gfmd_sim_t), intent(inout) :: self
+    call c_gfmd_sim_destroy(self%ptr)
+  end subroutine sim_final
+
+  !> Grid size and cell lengths.
+  subroutine sim_get_grid(self, nx, ny, lx, ly, stat, errmsg)
+    class(gfmd_sim_t), intent(in) :: self
+    integer, intent(out), optional :: nx, ny
+    real(dp), intent(out), optional :: lx, ly
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    integer(c_int64_t) :: mx, my
+    real(c_double) :: ax, ay
+    integer(c_int32_t) :: st
+    st = c_gfmd_get_grid(self%ptr, mx, my, ax, ay)
+    if (st == GFMD_OK) then
+      if (present(nx)) nx = int(mx)
+      if (present(ny)) ny = int(my)
+      if (present(lx)) lx = ax
+      if (present(ly)) ly = ay
+    end if
+    call finish(self%ptr, st, 'get_grid', stat, errmsg)
+  end subroutine sim_get_grid
+
+  ! ------------------------------------------------------------------ the body and the substrate
+
+  subroutine sim_set_modulus(self, e_star, stat, errmsg)
+    class(gfmd_sim_t), intent(inout) :: self
+    real(dp), intent(in) :: e_star
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    call finish(self%ptr, c_gfmd_set_modulus(self%ptr, e_star), 'set_modulus', stat, errmsg)
+  end subroutine sim_set_modulus
+
+  !> kind: GFMD_GREEN_HALFSPACE, GFMD_GREEN_LAYER_FLUID or GFMD_GREEN_LAYER_BONDED; width of a layer.
+  subroutine sim_set_green(self, kind, width, stat, errmsg)
+    class(gfmd_sim_t), intent(inout) :: self
+    integer, intent(in) :: kind
+    real(dp), intent(in), optional :: width
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    real(c_double) :: w
+    w = 0.0_dp
+    if (present(width)) w = width
+    call finish(self%ptr, c_gfmd_set_green(self%ptr, int(kind, c_int32_t), w), 'set_green', stat, errmsg)
+  end subroutine sim_set_green
+
+  subroutine sim_set_poisson(self, nu, stat, errmsg)
+    class(gfmd_sim_t), intent(inout) :: self
+    real(dp), intent(in) :: nu
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    call finish(self%ptr, c_gfmd_set_poisson(self%ptr, nu), 'set_poisson', stat, errmsg)
+  end subroutine sim_set_poisson
+
+  !> Substrate heights h(nx, ny); resets the body to flat at the highest point.
+  subroutine sim_set_heights(self, h, stat, errmsg)
+    class(gfmd_sim_t), intent(inout) :: self
+    real(dp), intent(in), contiguous :: h(:, :)
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    if (.not. shape_ok(self, h, 'set_heights', stat, errmsg)) return
+    call finish(self%ptr, c_gfmd_set_heights(self%ptr, h), 'set_heights', stat, errmsg)
+  end subroutine sim_set_heights
+
+  subroutine sim_get_heights(self, h, stat, errmsg)
+    class(gfmd_sim_t), intent(in) :: self
+    real(dp), intent(inout), contiguous :: h(:, :)
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    if (.not. shape_ok(self, h, 'get_heights', stat, errmsg)) return
+    call finish(self%ptr, c_gfmd_get_heights(self%ptr, h), 'get_heights', stat, errmsg)
+  end subroutine sim_get_heights
+
+  !> Self-affine substrate (see gfmd.h); distribution defaults to GFMD_DIST_UNIFORM.  A seed
+  !> gives the same surface as the same seed in C.
+  subroutine sim_generate_selfaffine(self, hurst, lambda_r, lambda_s, rms_gradient, seed, distribution, &
+                                     stat, errmsg)
+    class(gfmd_sim_t), intent(inout) :: self
+    real(dp), intent(in) :: hurst, lambda_r, lambda_s, rms_gradient
+    integer, intent(in) :: seed
+    integer, intent(in), optional :: distribution
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    integer(c_int32_t) :: d
+    d = GFMD_DIST_UNIFORM
+    if (present(distribution)) d = int(distribution, c_int32_t)
+    call finish(self%ptr, c_gfmd_generate_selfaffine(self%ptr, hurst, lambda_r, lambda_s, rms_gradient, &
+                                                     int(seed, c_int64_t), d), &
+                'generate_selfaffine', stat, errmsg)
+  end subroutine sim_generate_selfaffine
+
+  ! ------------------------------------------------------------------ loads and dynamics
+
+  subroutine sim_set_pressure(self, sigma0, stat, errmsg)
+    class(gfmd_sim_t), intent(inout) :: self
+    real(dp), intent(in) :: sigma0
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    call finish(self%ptr, c_gfmd_set_pressure(self%ptr, sigma0), 'set_pressure', stat, errmsg)
+  end subroutine sim_set_pressure
+
+  subroutine sim_set_adhesion(self, gamma0, rho, stat, errmsg)
+    class(gfmd_sim_t), intent(inout) :: self
+    real(dp), intent(in) :: gamma0, rho
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    call finish(self%ptr, c_gfmd_set_adhesion(self%ptr, gamma0, rho), 'set_adhesion', stat, errmsg)
+  end subroutine sim_set_adhesion
+
+  subroutine sim_set_timestep(self, dt, stat, errmsg)
+    class(gfmd_sim_t), intent(inout) :: self
+    real(dp), intent(in) :: dt
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    call finish(self%ptr, c_gfmd_set_timestep(self%ptr, dt), 'set_timestep', stat, errmsg)
+  end subroutine sim_set_timestep
+
+  subroutine sim_set_damping(self, eta, stat, errmsg)
+    class(gfmd_sim_t), intent(inout) :: self
+    real(dp), intent(in) :: eta
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    call finish(self%ptr, c_gfmd_set_damping(self%ptr, eta), 'set_damping', stat, errmsg)
+  end subroutine sim_set_damping
+
+  !> GFMD_SOLVER_FIRE (default) or GFMD_SOLVER_VERLET.
+  subroutine sim_set_solver(self, solver, stat, errmsg)
+    class(gfmd_sim_t), intent(inout) :: self
+    integer, intent(in) :: solver
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    call finish(self%ptr, c_gfmd_set_solver(self%ptr, int(solver, c_int32_t)), 'set_solver', stat, errmsg)
+  end subroutine sim_set_solver
+
+  subroutine sim_get_dynamics(self, dt, eta, stat, errmsg)
+    class(gfmd_sim_t), intent(in) :: self
+    real(dp), intent(out), optional :: dt, eta
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    real(c_double) :: a, b
+    integer(c_int32_t) :: st
+    st = c_gfmd_get_dynamics(self%ptr, a, b)
+    if (st == GFMD_OK) then
+      if (present(dt)) dt = a
+      if (present(eta)) eta = b
+    end if
+    call finish(self%ptr, st, 'get_dynamics', stat, errmsg)
+  end subroutine sim_get_dynamics
+
+  subroutine sim_step(self, nsteps, stat, errmsg)
+    class(gfmd_sim_t), intent(inout) :: self
+    integer, intent(in) :: nsteps
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    call finish(self%ptr, c_gfmd_step(self%ptr, int(nsteps, c_int64_t)), 'step', stat, errmsg)
+  end subroutine sim_step
+
+  !> Relax to the relative residual tol (default GFMD_DEFAULT_TOL) in at most max_steps
+  !> (default 1000000) steps; steps receives the steps made (also when not converged).
+  subroutine sim_relax(self, tol, max_steps, steps, stat, errmsg)
+    class(gfmd_sim_t), intent(inout) :: self
+    real(dp), intent(in), optional :: tol
+    integer, intent(in), optional :: max_steps
+    integer, intent(out), optional :: steps
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    real(c_double) :: t
+    integer(c_int64_t) :: m, taken
+    integer(c_int32_t) :: st
+    t = 0.0_dp
+    if (present(tol)) t = tol
+    m = 1000000_c_int64_t
+    if (present(max_steps)) m = int(max_steps, c_int64_t)
+    taken = 0
+    st = c_gfmd_relax(self%ptr, t, m, taken)
+    if (present(steps)) steps = int(taken)
+    call finish(self%ptr, st, 'relax', stat, errmsg)
+  end subroutine sim_relax
+
+  subroutine sim_get_residual(self, residual, stat, errmsg)
+    class(gfmd_sim_t), intent(in) :: self
+    real(dp), intent(out) :: residual
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    call finish(self%ptr, c_gfmd_get_residual(self%ptr, residual), 'get_residual', stat, errmsg)
+  end subroutine sim_get_residual
+
+  subroutine sim_reset(self, stat, errmsg)
+    class(gfmd_sim_t), intent(inout) :: self
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    call finish(self%ptr, c_gfmd_reset(self%ptr), 'reset', stat, errmsg)
+  end subroutine sim_reset
+
+  ! ------------------------------------------------------------------ observables
+
+  subroutine sim_get_contact_area(self, rel_area, stat, errmsg)
+    class(gfmd_sim_t), intent(in) :: self
+    real(dp), intent(out) :: rel_area
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    call finish(self%ptr, c_gfmd_get_contact_area(self%ptr, rel_area), 'get_contact_area', stat, errmsg)
+  end subroutine sim_get_contact_area
+
+  subroutine sim_get_mean_gap(self, mean_gap, stat, errmsg)
+    class(gfmd_sim_t), intent(in) :: self
+    real(dp), intent(out) :: mean_gap
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    call finish(self%ptr, c_gfmd_get_mean_gap(self%ptr, mean_gap), 'get_mean_gap', stat, errmsg)
+  end subroutine sim_get_mean_gap
+
+  subroutine sim_get_energies(self, elastic, adhesive, stat, errmsg)
+    class(gfmd_sim_t), intent(in) :: self
+    real(dp), intent(out), optional :: elastic, adhesive
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    real(c_double) :: e, a
+    integer(c_int32_t) :: st
+    st = c_gfmd_get_energies(self%ptr, e, a)
+    if (st == GFMD_OK) then
+      if (present(elastic)) elastic = e
+      if (present(adhesive)) adhesive = a
+    end if
+    call finish(self%ptr, st, 'get_energies', stat, errmsg)
+  end subroutine sim_get_energies
+
+  subroutine sim_get_gap(self, gap, stat, errmsg)
+    class(gfmd_sim_t), intent(in) :: self
+    real(dp), intent(inout), contiguous :: gap(:, :)
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    if (.not. shape_ok(self, gap, 'get_gap', stat, errmsg)) return
+    call finish(self%ptr, c_gfmd_get_gap(self%ptr, gap), 'get_gap', stat, errmsg)
+  end subroutine sim_get_gap
+
+  subroutine sim_get_surface(self, z, stat, errmsg)
+    class(gfmd_sim_t), intent(in) :: self
+    real(dp), intent(inout), contiguous :: z(:, :)
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    if (.not. shape_ok(self, z, 'get_surface', stat, errmsg)) return
+    call finish(self%ptr, c_gfmd_get_surface(self%ptr, z), 'get_surface', stat, errmsg)
+  end subroutine sim_get_surface
+
+  subroutine sim_get_pressure(self, p, stat, errmsg)
+    class(gfmd_sim_t), intent(in) :: self
+    real(dp), intent(inout), contiguous :: p(:, :)
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    if (.not. shape_ok(self, p, 'get_pressure', stat, errmsg)) return
+    call finish(self%ptr, c_gfmd_get_pressure(self%ptr, p), 'get_pressure', stat, errmsg)
+  end subroutine sim_get_pressure
+
+  !> The library's message of the last failure on this simulation.
+  function sim_last_error(self) result(msg)
+    class(gfmd_sim_t), intent(in) :: self
+    character(:), allocatable :: msg
+    msg = handle_message(self%ptr)
+  end function sim_last_error
+
+end module gfmd

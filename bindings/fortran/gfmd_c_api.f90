@@ -1,0 +1,277 @@
+!> Raw bind(C) interfaces to every function of the gfmd C API (gfmd.h), one to one.
+!> Users call the module `gfmd` instead; this layer only states the C prototypes in Fortran.
+module gfmd_c_api
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_int32_t, c_int64_t, c_double, c_char, c_size_t
+  implicit none
+  private
+  public :: c_gfmd_version, c_gfmd_status_string, c_gfmd_last_error, c_gfmd_last_error_length
+  public :: c_gfmd_sim_create, c_gfmd_sim_clone, c_gfmd_sim_destroy, c_gfmd_get_grid
+  public :: c_gfmd_set_modulus, c_gfmd_set_green, c_gfmd_set_poisson, c_gfmd_green_factor
+  public :: c_gfmd_set_heights, c_gfmd_get_heights, c_gfmd_generate_selfaffine
+  public :: c_gfmd_set_pressure, c_gfmd_set_adhesion, c_gfmd_set_timestep, c_gfmd_set_damping
+  public :: c_gfmd_set_solver, c_gfmd_get_dynamics, c_gfmd_step, c_gfmd_relax, c_gfmd_get_residual
+  public :: c_gfmd_reset, c_gfmd_get_contact_area, c_gfmd_get_mean_gap, c_gfmd_get_energies
+  public :: c_gfmd_get_gap, c_gfmd_get_surface, c_gfmd_get_pressure, c_strlen
+
+  interface
+    ! const char *gfmd_version(void);
+    function c_gfmd_version() bind(C, name="gfmd_version") result(r)
+      import :: c_ptr
+      type(c_ptr) :: r
+    end function
+
+    ! const char *gfmd_status_string(int32_t status);
+    function c_gfmd_status_string(status) bind(C, name="gfmd_status_string") result(r)
+      import :: c_ptr, c_int32_t
+      integer(c_int32_t), value :: status
+      type(c_ptr) :: r
+    end function
+
+    ! int32_t gfmd_last_error(const gfmd_sim *s, char *buf, int64_t len);
+    function c_gfmd_last_error(s, buf, len) bind(C, name="gfmd_last_error") result(r)
+      import :: c_ptr, c_char, c_int32_t, c_int64_t
+      type(c_ptr), value :: s
+      character(kind=c_char), intent(out) :: buf(*)
+      integer(c_int64_t), value :: len
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_last_error_length(const gfmd_sim *s, int64_t *needed);
+    function c_gfmd_last_error_length(s, needed) bind(C, name="gfmd_last_error_length") result(r)
+      import :: c_ptr, c_int32_t, c_int64_t
+      type(c_ptr), value :: s
+      integer(c_int64_t), intent(out) :: needed
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_sim_create(int64_t nx, int64_t ny, double lx, double ly, gfmd_sim **out);
+    function c_gfmd_sim_create(nx, ny, lx, ly, out) bind(C, name="gfmd_sim_create") result(r)
+      import :: c_ptr, c_int32_t, c_int64_t, c_double
+      integer(c_int64_t), value :: nx, ny
+      real(c_double), value :: lx, ly
+      type(c_ptr), intent(out) :: out
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_sim_clone(const gfmd_sim *s, gfmd_sim **out);
+    function c_gfmd_sim_clone(s, out) bind(C, name="gfmd_sim_clone") result(r)
+      import :: c_ptr, c_int32_t
+      type(c_ptr), value :: s
+      type(c_ptr), intent(out) :: out
+      integer(c_int32_t) :: r
+    end function
+
+    ! void gfmd_sim_destroy(gfmd_sim **sim);
+    subroutine c_gfmd_sim_destroy(sim) bind(C, name="gfmd_sim_destroy")
+      import :: c_ptr
+      type(c_ptr), intent(inout) :: sim
+    end subroutine
+
+    ! int32_t gfmd_get_grid(const gfmd_sim *s, int64_t *nx, int64_t *ny, double *lx, double *ly);
+    function c_gfmd_get_grid(s, nx, ny, lx, ly) bind(C, name="gfmd_get_grid") result(r)
+      import :: c_ptr, c_int32_t, c_int64_t, c_double
+      type(c_ptr), value :: s
+      integer(c_int64_t), intent(out) :: nx, ny
+      real(c_double), intent(out) :: lx, ly
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_set_modulus(gfmd_sim *s, double e_star);
+    function c_gfmd_set_modulus(s, e_star) bind(C, name="gfmd_set_modulus") result(r)
+      import :: c_ptr, c_int32_t, c_double
+      type(c_ptr), value :: s
+      real(c_double), value :: e_star
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_set_green(gfmd_sim *s, int32_t kind, double width);
+    function c_gfmd_set_green(s, kind, width) bind(C, name="gfmd_set_green") result(r)
+      import :: c_ptr, c_int32_t, c_double
+      type(c_ptr), value :: s
+      integer(c_int32_t), value :: kind
+      real(c_double), value :: width
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_set_poisson(gfmd_sim *s, double nu);
+    function c_gfmd_set_poisson(s, nu) bind(C, name="gfmd_set_poisson") result(r)
+      import :: c_ptr, c_int32_t, c_double
+      type(c_ptr), value :: s
+      real(c_double), value :: nu
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_green_factor(int32_t kind, double t, double nu, double *f);
+    function c_gfmd_green_factor(kind, t, nu, f) bind(C, name="gfmd_green_factor") result(r)
+      import :: c_int32_t, c_double
+      integer(c_int32_t), value :: kind
+      real(c_double), value :: t, nu
+      real(c_double), intent(out) :: f
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_set_heights(gfmd_sim *s, const double *h);
+    function c_gfmd_set_heights(s, h) bind(C, name="gfmd_set_heights") result(r)
+      import :: c_ptr, c_int32_t, c_double
+      type(c_ptr), value :: s
+      real(c_double), intent(in) :: h(*)
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_get_heights(const gfmd_sim *s, double *h);
+    function c_gfmd_get_heights(s, h) bind(C, name="gfmd_get_heights") result(r)
+      import :: c_ptr, c_int32_t, c_double
+      type(c_ptr), value :: s
+      real(c_double), intent(inout) :: h(*)
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_generate_selfaffine(gfmd_sim *s, double hurst, double lambda_r, double lambda_s,
+    !                                  double rms_gradient, uint64_t seed, int32_t distribution);
+    function c_gfmd_generate_selfaffine(s, hurst, lambda_r, lambda_s, rms_gradient, seed, distribution) &
+        bind(C, name="gfmd_generate_selfaffine") result(r)
+      import :: c_ptr, c_int32_t, c_int64_t, c_double
+      type(c_ptr), value :: s
+      real(c_double), value :: hurst, lambda_r, lambda_s, rms_gradient
+      integer(c_int64_t), value :: seed  ! uint64_t: same bits for seeds >= 0
+      integer(c_int32_t), value :: distribution
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_set_pressure(gfmd_sim *s, double sigma0);
+    function c_gfmd_set_pressure(s, sigma0) bind(C, name="gfmd_set_pressure") result(r)
+      import :: c_ptr, c_int32_t, c_double
+      type(c_ptr), value :: s
+      real(c_double), value :: sigma0
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_set_adhesion(gfmd_sim *s, double gamma0, double rho);
+    function c_gfmd_set_adhesion(s, gamma0, rho) bind(C, name="gfmd_set_adhesion") result(r)
+      import :: c_ptr, c_int32_t, c_double
+      type(c_ptr), value :: s
+      real(c_double), value :: gamma0, rho
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_set_timestep(gfmd_sim *s, double dt);
+    function c_gfmd_set_timestep(s, dt) bind(C, name="gfmd_set_timestep") result(r)
+      import :: c_ptr, c_int32_t, c_double
+      type(c_ptr), value :: s
+      real(c_double), value :: dt
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_set_damping(gfmd_sim *s, double eta);
+    function c_gfmd_set_damping(s, eta) bind(C, name="gfmd_set_damping") result(r)
+      import :: c_ptr, c_int32_t, c_double
+      type(c_ptr), value :: s
+      real(c_double), value :: eta
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_set_solver(gfmd_sim *s, int32_t solver);
+    function c_gfmd_set_solver(s, solver) bind(C, name="gfmd_set_solver") result(r)
+      import :: c_ptr, c_int32_t
+      type(c_ptr), value :: s
+      integer(c_int32_t), value :: solver
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_get_dynamics(const gfmd_sim *s, double *dt, double *eta);
+    function c_gfmd_get_dynamics(s, dt, eta) bind(C, name="gfmd_get_dynamics") result(r)
+      import :: c_ptr, c_int32_t, c_double
+      type(c_ptr), value :: s
+      real(c_double), intent(out) :: dt, eta
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_step(gfmd_sim *s, int64_t nsteps);
+    function c_gfmd_step(s, nsteps) bind(C, name="gfmd_step") result(r)
+      import :: c_ptr, c_int32_t, c_int64_t
+      type(c_ptr), value :: s
+      integer(c_int64_t), value :: nsteps
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_relax(gfmd_sim *s, double tol, int64_t max_steps, int64_t *steps_taken);
+    function c_gfmd_relax(s, tol, max_steps, steps_taken) bind(C, name="gfmd_relax") result(r)
+      import :: c_ptr, c_int32_t, c_int64_t, c_double
+      type(c_ptr), value :: s
+      real(c_double), value :: tol
+      integer(c_int64_t), value :: max_steps
+      integer(c_int64_t), intent(out) :: steps_taken
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_get_residual(const gfmd_sim *s, double *residual);
+    function c_gfmd_get_residual(s, residual) bind(C, name="gfmd_get_residual") result(r)
+      import :: c_ptr, c_int32_t, c_double
+      type(c_ptr), value :: s
+      real(c_double), intent(out) :: residual
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_reset(gfmd_sim *s);
+    function c_gfmd_reset(s) bind(C, name="gfmd_reset") result(r)
+      import :: c_ptr, c_int32_t
+      type(c_ptr), value :: s
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_get_contact_area(const gfmd_sim *s, double *rel_area);
+    function c_gfmd_get_contact_area(s, rel_area) bind(C, name="gfmd_get_contact_area") result(r)
+      import :: c_ptr, c_int32_t, c_double
+      type(c_ptr), value :: s
+      real(c_double), intent(out) :: rel_area
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_get_mean_gap(const gfmd_sim *s, double *mean_gap);
+    function c_gfmd_get_mean_gap(s, mean_gap) bind(C, name="gfmd_get_mean_gap") result(r)
+      import :: c_ptr, c_int32_t, c_double
+      type(c_ptr), value :: s
+      real(c_double), intent(out) :: mean_gap
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_get_energies(const gfmd_sim *s, double *elastic, double *adhesive);
+    function c_gfmd_get_energies(s, elastic, adhesive) bind(C, name="gfmd_get_energies") result(r)
+      import :: c_ptr, c_int32_t, c_double
+      type(c_ptr), value :: s
+      real(c_double), intent(out) :: elastic, adhesive
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_get_gap(const gfmd_sim *s, double *gap);
+    function c_gfmd_get_gap(s, gap) bind(C, name="gfmd_get_gap") result(r)
+      import :: c_ptr, c_int32_t, c_double
+      type(c_ptr), value :: s
+      real(c_double), intent(inout) :: gap(*)
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_get_surface(const gfmd_sim *s, double *z);
+    function c_gfmd_get_surface(s, z) bind(C, name="gfmd_get_surface") result(r)
+      import :: c_ptr, c_int32_t, c_double
+      type(c_ptr), value :: s
+      real(c_double), intent(inout) :: z(*)
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_get_pressure(const gfmd_sim *s, double *p);
+    function c_gfmd_get_pressure(s, p) bind(C, name="gfmd_get_pressure") result(r)
+      import :: c_ptr, c_int32_t, c_double
+      type(c_ptr), value :: s
+      real(c_double), intent(inout) :: p(*)
+      integer(c_int32_t) :: r
+    end function
+
+    ! size_t strlen(const char *s);   (C library, to read the library's strings)
+    function c_strlen(s) bind(C, name="strlen") result(r)
+      import :: c_ptr, c_size_t
+      type(c_ptr), value :: s
+      integer(c_size_t) :: r
+    end function
+  end interface
+end module gfmd_c_api

@@ -1,0 +1,211 @@
+!> The Fortran bindings against the C library: the same problem through the module gfmd and
+!> through direct C calls (module gfmd_c_api) must give identical surfaces and A/A0 to 1e-12; the
+!> layout (nx /= ny) is x fastest; errors come back through stat/errmsg; destroy is idempotent;
+!> assignment copies.
+program test_fortran_bindings
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr, c_int64_t, c_double, c_int32_t
+  use gfmd
+  use gfmd_c_api
+  implicit none
+  integer :: passed = 0, failed = 0
+
+  call same_problem_as_c()
+  call portable_surface_and_layout()
+  call layout_non_square()
+  call error_paths()
+  call destroy_twice()
+  call assignment_copies()
+
+  print '(i0, " passed, ", i0, " failed")', passed, failed
+  if (failed > 0) error stop 1
+
+contains
+
+  subroutine check(cond, what)
+    logical, intent(in) :: cond
+    character(*), intent(in) :: what
+    if (cond) then
+      passed = passed + 1
+    else
+      failed = failed + 1
+      print '(a)', 'FAILED: ' // what
+    end if
+  end subroutine check
+
+  subroutine ok(st, what)
+    integer(c_int32_t), intent(in) :: st
+    character(*), intent(in) :: what
+    call check(st == GFMD_OK, what)
+  end subroutine ok
+
+  !> Same seed, same relaxation, through the module and through raw C calls.
+  subroutine same_problem_as_c()
+    integer, parameter :: nx = 48, ny = 32
+    type(gfmd_sim_t) :: sim
+    type(c_ptr) :: p
+    real(dp) :: hf(nx, ny), hc(nx * ny), area_f, gap_f, el_f, area_c, gap_c, el_c, ad
+    integer(c_int64_t) :: taken
+    integer :: steps
+
+    call sim%create(nx, ny, real(nx, dp), real(ny, dp))
+    call sim%generate_selfaffine(0.8_dp, 16.0_dp, 4.0_dp, 1.0_dp, seed=11)
+    call sim%set_green(GFMD_GREEN_LAYER_FLUID, 6.0_dp)
+    call sim%set_pressure(0.05_dp)
+    call sim%relax(tol=1e-8_dp, steps=steps)
+    call sim%get_heights(hf)
+    call sim%get_contact_area(area_f)
+    call sim%get_mean_gap(gap_f)
+    call sim%get_energies(elastic=el_f)
+
+    p = c_null_ptr
+    call ok(c_gfmd_sim_create(int(nx, c_int64_t), int(ny, c_int64_t), real(nx, c_double), real(ny, c_double), p), &
+            'C create')
+    call ok(c_gfmd_generate_selfaffine(p, 0.8_dp, 16.0_dp, 4.0_dp, 1.0_dp, 11_c_int64_t, &
+                                       int(GFMD_DIST_UNIFORM, c_int32_t)), 'C generate')
+    call ok(c_gfmd_set_green(p, int(GFMD_GREEN_LAYER_FLUID, c_int32_t), 6.0_dp), 'C green')
+    call ok(c_gfmd_set_pressure(p, 0.05_dp), 'C pressure')
+    call ok(c_gfmd_relax(p, 1e-8_dp, 1000000_c_int64_t, taken), 'C relax')
+    call ok(c_gfmd_get_heights(p, hc), 'C heights')
+    call ok(c_gfmd_get_contact_area(p, area_c), 'C area')
+    call ok(c_gfmd_get_mean_gap(p, gap_c), 'C gap')
+    call ok(c_gfmd_get_energies(p, el_c, ad), 'C energies')
+    call c_gfmd_sim_destroy(p)
+
+    call check(all(hf == reshape(hc, [nx, ny])), 'same seed gives the same surface, element by element')
+    call check(steps == taken, 'same number of steps')
+    call check(abs(area_f - area_c) <= 1e-12_dp, 'same A/A0 to 1e-12')
+    call check(abs(gap_f - gap_c) <= 1e-12_dp * abs(gap_c), 'same mean gap to 1e-12')
+    call check(abs(el_f - el_c) <= 1e-12_dp * abs(el_c), 'same elastic energy to 1e-12')
+    call check(area_f > 0.0_dp .and. area_f < 1.0_dp, 'partial contact')
+    call sim%destroy()
+  end subroutine same_problem_as_c
+
+  !> The C test suite's recorded heights for seed 1234 (test_selfaffine.c): h[0] and
+  !> h[1000] = h(ix = 40, iy = 15) in C, so h(41, 16) here if x runs fastest.
+  subroutine portable_surface_and_layout()
+    type(gfmd_sim_t) :: sim
+    real(dp) :: h(64, 64)
+    call sim%create(64, 64, 64.0_dp, 64.0_dp)
+    call sim%generate_selfaffine(0.8_dp, 16.0_dp, 4.0_dp, 1.0_dp, 1234, GFMD_DIST_UNIFORM)
+    call sim%get_heights(h)
+    call check(abs(h(1, 1) - (-7.4601656021861711_dp)) < 1e-11_dp, 'h(1,1) as recorded in C')
+    call check(abs(h(41, 16) - (-7.1371718903458916_dp)) < 1e-11_dp, 'h(41,16) = C h[1000]: x fastest')
+    call sim%destroy()
+  end subroutine portable_surface_and_layout
+
+  !> A substrate varying along x only (the first index) on a 40 x 24 grid: the gap is constant
+  !> along y, and the C view of the same memory indexes it as ix + nx*iy.
+  subroutine layout_non_square()
+    integer, parameter :: nx = 40, ny = 24
+    real(dp), parameter :: pi = acos(-1.0_dp)
+    type(gfmd_sim_t) :: sim
+    real(dp) :: h(nx, ny), gap(nx, ny)
+    integer :: i, j
+    do j = 1, ny
+      do i = 1, nx
+        h(i, j) = 0.5_dp * cos(2.0_dp * pi * (i - 1) / nx)
+      end do
+    end do
+    call sim%create(nx, ny, real(nx, dp), real(ny, dp))
+    call sim%set_heights(h)
+    call sim%set_pressure(0.01_dp)
+    call sim%relax(tol=1e-10_dp)
+    call sim%get_gap(gap)
+    call check(maxval(abs(gap - spread(gap(:, 1), 2, ny))) < 1e-9_dp, 'gap constant along y (second index)')
+    call check(maxval(gap(:, 1)) - minval(gap(:, 1)) > 0.1_dp, 'gap varies along x (first index)')
+    call check(gap(1, 1) == 0.0_dp .and. gap(nx / 2 + 1, 1) > 0.0_dp, 'contact at the crest x = 0, open at the valley')
+    call sim%destroy()
+  end subroutine layout_non_square
+
+  subroutine error_paths()
+    type(gfmd_sim_t) :: sim, never
+    integer :: st, steps
+    character(len=300) :: msg
+    real(dp) :: a0, a1, small(10, 10), f
+
+    call sim%create(0, 5, 1.0_dp, 1.0_dp, stat=st, errmsg=msg)
+    call check(st == GFMD_ERR_INVALID_ARG, 'create with nx = 0')
+    call check(.not. sim%is_created(), 'failed create leaves nothing')
+    call check(index(msg, 'create') > 0, 'create message: ' // trim(msg))
+
+    call never%set_pressure(0.1_dp, stat=st, errmsg=msg)
+    call check(st == GFMD_ERR_NULL, 'call on a simulation never created')
+    call check(index(msg, 'create first') > 0, 'message says to create first: ' // trim(msg))
+
+    call sim%create(32, 32, 32.0_dp, 32.0_dp)
+    call sim%generate_selfaffine(0.8_dp, 8.0_dp, 4.0_dp, 1.0_dp, 5)
+    call sim%set_pressure(0.05_dp)
+    call sim%relax()
+    call sim%get_contact_area(a0)
+
+    call sim%set_pressure(-1.0_dp, stat=st, errmsg=msg)
+    call check(st == GFMD_ERR_INVALID_ARG, 'negative pressure')
+    call check(index(msg, 'sigma0') > 0, 'message names sigma0: ' // trim(msg))
+    call check(index(sim%last_error(), 'sigma0') > 0, 'last_error names sigma0')
+    call sim%get_contact_area(a1)
+    call check(a0 == a1, 'failed call leaves the state unchanged')
+
+    call sim%set_green(99, 1.0_dp, stat=st)
+    call check(st == GFMD_ERR_BAD_ENUM, 'unknown Green kind')
+    call sim%set_green(GFMD_GREEN_LAYER_BONDED, 1.0_dp, stat=st, errmsg=msg)
+    call check(st == GFMD_ERR_STATE, 'bonded layer without Poisson ratio')
+    call sim%get_gap(small, stat=st, errmsg=msg)
+    call check(st == GFMD_ERR_INVALID_ARG, 'wrong array shape')
+    call check(index(msg, '(nx, ny) = (32, 32)') > 0, 'shape message: ' // trim(msg))
+
+    call sim%set_pressure(0.2_dp)
+    call sim%relax(tol=1e-14_dp, max_steps=2, steps=steps, stat=st, errmsg=msg)
+    call check(st == GFMD_ERR_NOT_CONVERGED, 'not converged')
+    call check(steps == 2, 'steps reported when not converged')
+    call sim%relax(stat=st)
+    call check(st == GFMD_OK, 'a later relax continues and converges')
+
+    call sim%set_pressure(0.1_dp, stat=st, errmsg=msg)
+    call check(st == GFMD_OK .and. len_trim(msg) == 0, 'success clears errmsg')
+
+    call gfmd_green_factor(GFMD_GREEN_LAYER_FLUID, 1.0_dp, f)
+    call check(abs(f - 7.382435_dp) < 1e-6_dp, 'green factor f(1)')
+    call gfmd_green_factor(GFMD_GREEN_LAYER_FLUID, -1.0_dp, f, stat=st)
+    call check(st == GFMD_ERR_INVALID_ARG, 'green factor of t < 0')
+    call check(len(gfmd_status_string(GFMD_ERR_DIVERGED)) > 0, 'status string')
+    call check(len(gfmd_version()) > 0, 'version string')
+    call sim%destroy()
+  end subroutine error_paths
+
+  subroutine destroy_twice()
+    type(gfmd_sim_t) :: sim, never
+    call sim%create(8, 8, 8.0_dp, 8.0_dp)
+    call check(sim%is_created(), 'created')
+    call sim%destroy()
+    call sim%destroy()
+    call never%destroy()
+    call check(.not. sim%is_created(), 'destroyed twice without harm')
+  end subroutine destroy_twice
+
+  subroutine assignment_copies()
+    type(gfmd_sim_t) :: a, b, c
+    real(dp) :: area_a, area_b, area_a2
+    call a%create(32, 32, 32.0_dp, 32.0_dp)
+    call a%generate_selfaffine(0.8_dp, 8.0_dp, 4.0_dp, 1.0_dp, 8)
+    call a%set_pressure(0.05_dp)
+    call a%relax()
+    call a%get_contact_area(area_a)
+    b = a
+    call check(b%is_created(), 'assignment makes a copy')
+    call b%get_contact_area(area_b)
+    call check(area_a == area_b, 'the copy has the same state')
+    call b%set_pressure(0.3_dp)
+    call b%relax()
+    call b%get_contact_area(area_b)
+    call a%get_contact_area(area_a2)
+    call check(area_a2 == area_a .and. area_b > area_a, 'the copy is independent')
+    b = c   ! assigning an empty simulation frees b's
+    call check(.not. b%is_created(), 'assigning an empty simulation empties')
+    call a%copy_to(c)
+    call check(c%is_created(), 'copy_to')
+    call a%destroy()
+    call b%destroy()
+    call c%destroy()
+  end subroutine assignment_copies
+
+end program test_fortran_bindings
