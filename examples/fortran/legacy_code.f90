@@ -56,4 +56,5 @@ program legacy_code
   call sim%get_pressure(p)
   print '(a, es12.5, a, es12.5, a)', 'mean pressure ', sum(p) / (nx * ny), ' (load ', sigma0, ')'
   call sim%destroy()
+  deallocate (h, p)
 end program legacy_code
