@@ -9,5 +9,8 @@ function(gfmd_add_cmocka_test name)
   if(NOT ARG_TIMEOUT)
     set(ARG_TIMEOUT 300)
   endif()
-  set_tests_properties(${name} PROPERTIES TIMEOUT ${ARG_TIMEOUT} LABELS "unit")
+  # One thread per test: ctest -j runs tests side by side on the same cores, and OpenMP threads
+  # that wait for each other on an oversubscribed core slow down tenfold. test_threads checks
+  # the threaded paths on purpose.
+  set_tests_properties(${name} PROPERTIES TIMEOUT ${ARG_TIMEOUT} LABELS "unit" ENVIRONMENT "OMP_NUM_THREADS=1")
 endfunction()

@@ -69,6 +69,13 @@ enum gfmd_solver {
     GFMD_SOLVER_FIRE = 1     /**< FIRE (Bitzek et al., PRL 97, 170201 (2006)), the default */
 };
 
+/** FFTW planner rigour, for gfmd_set_fft_planner(). */
+enum gfmd_planner {
+    GFMD_PLANNER_ESTIMATE = 0, /**< no measurement: instant planning, slower transforms */
+    GFMD_PLANNER_MEASURE = 1,  /**< FFTW_MEASURE, the default: ~1 s to plan 2048^2, ~20 % faster */
+    GFMD_PLANNER_PATIENT = 2   /**< FFTW_PATIENT: long planning, for very long runs */
+};
+
 /* ---------------------------------------------------------------- version and status */
 
 /** Runtime version string, e.g. "0.1.0" (compare with GFMD_VERSION_STRING). */
@@ -192,6 +199,30 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * forces, the wall and the convergence criterion, and reach the same equilibrium.
  */
 GFMD_API int32_t gfmd_set_solver(gfmd_sim *s, int32_t solver);
+
+/**
+ * Threads used by this handle: FFTW's transforms and the library's own loops (OpenMP).  0 (the
+ * default) uses all the machine's cores, or OMP_NUM_THREADS if that is set (e.g. to 1 when
+ * running one process per core).  Results do not depend on the thread count of the
+ * library's loops (sums are formed in fixed blocks); FFTW may round differently with threads.
+ * Re-plans the transforms.
+ */
+GFMD_API int32_t gfmd_set_threads(gfmd_sim *s, int32_t nthreads);
+
+/** Threads in effect for this handle. */
+GFMD_API int32_t gfmd_get_threads(const gfmd_sim *s, int32_t *nthreads);
+
+/** FFTW planner rigour (GFMD_PLANNER_*) for this handle's transforms; re-plans them. */
+GFMD_API int32_t gfmd_set_fft_planner(gfmd_sim *s, int32_t planner);
+
+/**
+ * Load FFTW wisdom from a file (process-wide, as FFTW's wisdom is), so that later plans of the
+ * same sizes are made without measuring.  GFMD_ERR_IO if the file cannot be read or parsed.
+ */
+GFMD_API int32_t gfmd_import_wisdom(const char *path);
+
+/** Save the process's FFTW wisdom to a file.  GFMD_ERR_IO if it cannot be written. */
+GFMD_API int32_t gfmd_export_wisdom(const char *path);
 
 /** The time step and damping rate in effect (automatic or user-set). Either pointer may be NULL. */
 GFMD_API int32_t gfmd_get_dynamics(const gfmd_sim *s, double *dt, double *eta);

@@ -218,6 +218,31 @@ int32_t gfmd_set_solver(gfmd_sim *s, int32_t solver) {
     return guarded(s, [&](gfmd::Simulation &m) { m.set_solver(solver); });
 }
 
+int32_t gfmd_set_threads(gfmd_sim *s, int32_t nthreads) {
+    return guarded(s, [&](gfmd::Simulation &m) { m.set_threads(nthreads); });
+}
+
+int32_t gfmd_get_threads(const gfmd_sim *s, int32_t *nthreads) {
+    return guarded(s, [&](const gfmd::Simulation &m) {
+        need(nthreads, "nthreads");
+        *nthreads = m.threads();
+    });
+}
+
+int32_t gfmd_set_fft_planner(gfmd_sim *s, int32_t planner) {
+    return guarded(s, [&](gfmd::Simulation &m) { m.set_planner(planner); });
+}
+
+int32_t gfmd_import_wisdom(const char *path) {
+    if (path == nullptr) return GFMD_ERR_NULL;
+    return gfmd::import_wisdom(path) ? GFMD_OK : GFMD_ERR_IO;
+}
+
+int32_t gfmd_export_wisdom(const char *path) {
+    if (path == nullptr) return GFMD_ERR_NULL;
+    return gfmd::export_wisdom(path) ? GFMD_OK : GFMD_ERR_IO;
+}
+
 int32_t gfmd_get_dynamics(const gfmd_sim *s, double *dt, double *eta) {
     return guarded(s, [&](const gfmd::Simulation &m) {
         if (dt) *dt = m.timestep();

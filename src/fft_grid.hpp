@@ -14,9 +14,17 @@
 
 namespace gfmd {
 
+// FFTW planner rigour for the GFMD_PLANNER_* codes.
+unsigned planner_flags(int32_t planner);
+
+// FFTW wisdom, process-wide (FFTW's own state), serialized with planning.  Return false on failure.
+bool import_wisdom(const char *path);
+bool export_wisdom(const char *path);
+
 class FftGrid {
 public:
-    FftGrid(int64_t nx, int64_t ny, double lx, double ly);
+    // threads: threads of the transforms (small grids use one); planner: GFMD_PLANNER_*.
+    FftGrid(int64_t nx, int64_t ny, double lx, double ly, int threads, int32_t planner);
     FftGrid(const FftGrid &) = delete;
     FftGrid &operator=(const FftGrid &) = delete;
     ~FftGrid();
@@ -46,7 +54,11 @@ public:
     void forward(const double *in, std::complex<double> *out) const;
     void backward(std::complex<double> *in, double *out) const;
 
+    // New plans for another thread count or planner; the old ones stay if planning fails.
+    void replan(int threads, int32_t planner);
+
 private:
+    void make_plans(int threads, int32_t planner, fftw_plan &r2c, fftw_plan &c2r) const;
     int64_t nx_, ny_;
     double lx_, ly_;
     fftw_plan r2c_ = nullptr;

@@ -3,12 +3,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+
+#include <omp.h>
 #include <limits>
 #include <string>
 #include <utility>
 
 #include "error.hpp"
 #include "green.hpp"
+#include "parallel.hpp"
 
 namespace gfmd {
 
@@ -42,9 +45,20 @@ void require_finite(double x, const char *name) {
 
 }  // namespace
 
+namespace {
+// "All cores": the machine's cores, unless the user limited OpenMP (OMP_NUM_THREADS), e.g. to
+// run one process per core.
+int all_cores() {
+    const int n = omp_get_max_threads();
+    return n > 0 ? n : 1;
+}
+}  // namespace
+
 Simulation::Simulation(int64_t nx, int64_t ny, double lx, double ly)
-    : grid_(nx, ny, lx, ly),
+    : threads_(all_cores()),
+      grid_(nx, ny, lx, ly, threads_, planner_),
       n_(nx * ny),
+      rows_per_block_(std::max<int64_t>(1, kBlock / (nx / 2 + 1))),
       area_per_point_(lx * ly / static_cast<double>(nx * ny)),
       nu_(std::numeric_limits<double>::quiet_NaN()),
       h_(static_cast<std::size_t>(n_)),
@@ -53,13 +67,19 @@ Simulation::Simulation(int64_t nx, int64_t ny, double lx, double ly)
       f_(static_cast<std::size_t>(n_)),
       work_(static_cast<std::size_t>(grid_.complex_size())),
       saved_z_(static_cast<std::size_t>(n_)),
-      saved_v_(static_cast<std::size_t>(n_)) {
+      saved_v_(static_cast<std::size_t>(n_)),
+      sums_(static_cast<std::size_t>(4 * std::max(block_count(n_, kBlock), block_count(ny, rows_per_block_)))) {
     adopt_stiffness(stiffness_for(kind_, width_, e_star_, nu_));
     reset();
 }
 
 std::unique_ptr<Simulation> Simulation::clone() const {
     auto c = std::make_unique<Simulation>(grid_.nx(), grid_.ny(), grid_.lx(), grid_.ly());
+    if (c->threads_ != threads_ || c->planner_ != planner_) {
+        c->grid_.replan(threads_, planner_);
+        c->threads_ = threads_;
+        c->planner_ = planner_;
+    }
     auto copy = [](const RealBuffer &from, RealBuffer &to) { std::copy(from.data(), from.data() + from.size(), to.data()); };
     c->e_star_ = e_star_;
     c->kind_ = kind_;
@@ -226,6 +246,20 @@ void Simulation::set_solver(int32_t solver) {
     restart_fire();
 }
 
+void Simulation::set_threads(int threads) {
+    if (threads < 0) fail(GFMD_ERR_INVALID_ARG, "threads must be >= 0 (0 = all cores), got " + std::to_string(threads));
+    const int t = (threads == 0) ? all_cores() : threads;
+    grid_.replan(t, planner_);
+    threads_ = t;
+}
+
+void Simulation::set_planner(int32_t planner) {
+    if (planner != GFMD_PLANNER_ESTIMATE && planner != GFMD_PLANNER_MEASURE && planner != GFMD_PLANNER_PATIENT)
+        fail(GFMD_ERR_BAD_ENUM, "unknown FFT planner " + std::to_string(planner));
+    grid_.replan(threads_, planner);
+    planner_ = planner;
+}
+
 void Simulation::restart_fire() {
     fire_dt_ = kFireDtStart * dt_ / kDtFactor;
     fire_alpha_ = kFireAlpha0;
@@ -245,43 +279,62 @@ void Simulation::evaluate_forces() {
     grid_.forward(z_.data(), work_.data());
     const int64_t nxh = grid_.nxh();
     const double inv_n = 1.0 / static_cast<double>(n_);
-    double e = 0.0;
-    for (int64_t ky = 0; ky < grid_.ny(); ++ky) {
-        std::complex<double> *row = work_.data() + ky * nxh;
-        const double *krow = stiff_.data() + ky * nxh;
-        for (int64_t kx = 0; kx < nxh; ++kx) {
-            e += grid_.weight(kx) * krow[kx] * std::norm(row[kx]);
-            row[kx] *= -krow[kx] * inv_n;
+    const double w_last = grid_.weight(nxh - 1);  // 1 if the last column is the Nyquist one
+    std::complex<double> *work = work_.data();
+    const double *stiff = stiff_.data();
+    const auto energy = parallel_sums<1>(threads_, grid_.ny(), rows_per_block_, sums_.data(),
+                                         [&](int64_t y0, int64_t y1, double *acc) {
+        for (int64_t ky = y0; ky < y1; ++ky) {
+            std::complex<double> *row = work + ky * nxh;
+            const double *krow = stiff + ky * nxh;
+            // column 0 (and a Nyquist column) count once in the full-plane sum, the others twice
+            double e = krow[0] * std::norm(row[0]);
+            if (nxh > 1) e += (w_last - 2.0) * krow[nxh - 1] * std::norm(row[nxh - 1]);
+            row[0] *= -krow[0] * inv_n;
+            for (int64_t kx = 1; kx < nxh; ++kx) {
+                e += 2.0 * krow[kx] * std::norm(row[kx]);
+                row[kx] *= -krow[kx] * inv_n;
+            }
+            acc[0] += e;
         }
-    }
-    u_el_ = 0.5 * grid_.cell_area() * e * inv_n * inv_n;
+    });
+    u_el_ = 0.5 * grid_.cell_area() * energy[0] * inv_n * inv_n;
     grid_.backward(work_.data(), f_.data());
 
-    // Real space: external pressure, adhesion, and the residual of the constrained problem.
+    // Real space: external pressure, adhesion, the residual of the constrained problem, and the
+    // sums FIRE needs (power F.v, |F|^2, |v|^2 of the projected force F).
     const bool adhesive = gamma0_ > 0.0;
-    const double adh_coef = adhesive ? gamma0_ / rho_ : 0.0, inv_rho = 1.0 / rho_;
-    double adh_sum = 0.0, res2 = 0.0, power = 0.0, v2 = 0.0;
-    for (int64_t i = 0; i < n_; ++i) {
-        const double g = z_[i] - h_[i];
-        double fi = f_[i] - sigma0_;
-        if (adhesive) {
-            const double w = std::exp(-g * inv_rho);
-            adh_sum += w;
-            fi -= adh_coef * w;
+    const double adh_coef = adhesive ? gamma0_ / rho_ : 0.0, inv_rho = 1.0 / rho_, sigma0 = sigma0_;
+    double *f = f_.data();
+    const double *z = z_.data(), *h = h_.data(), *v = v_.data();
+    const auto sums = parallel_sums<4>(threads_, n_, kBlock, sums_.data(), [&](int64_t i0, int64_t i1, double *acc) {
+        double adh_sum = 0.0, res2 = 0.0, power = 0.0, v2 = 0.0;
+        for (int64_t i = i0; i < i1; ++i) {
+            const double g = z[i] - h[i];
+            double fi = f[i] - sigma0;
+            if (adhesive) {
+                const double w = std::exp(-g * inv_rho);
+                adh_sum += w;
+                fi -= adh_coef * w;
+            }
+            f[i] = fi;
+            const double r = (g <= 0.0) ? std::max(fi, 0.0) : fi;  // in contact only pulling away counts
+            res2 += r * r;
+            power += r * v[i];
+            v2 += v[i] * v[i];
         }
-        f_[i] = fi;
-        const double r = (g <= 0.0) ? std::max(fi, 0.0) : fi;  // in contact only pulling away counts
-        res2 += r * r;
-        power += r * v_[i];
-        v2 += v_[i] * v_[i];
-    }
-    power_ = power;
-    f_norm2_ = res2;
-    v_norm2_ = v2;
-    u_ad_ = gamma0_ * area_per_point_ * adh_sum;
+        acc[0] += adh_sum;
+        acc[1] += res2;
+        acc[2] += power;
+        acc[3] += v2;
+    });
+    u_ad_ = gamma0_ * area_per_point_ * sums[0];
+    f_norm2_ = sums[1];
+    power_ = sums[2];
+    v_norm2_ = sums[3];
     double ref = sigma0_ + adh_coef;
     if (ref <= 0.0) ref = e_star_;
-    residual_ = std::sqrt(res2 * inv_n) / ref;
+    residual_ = std::sqrt(f_norm2_ * inv_n) / ref;
 }
 
 void Simulation::advance() {
@@ -317,25 +370,28 @@ void Simulation::advance_fire() {
     if (!uphill) vn2 = v_norm2_ + 2.0 * dt * power_ + dt * dt * f_norm2_;
     const double mix = (f_norm2_ > 0.0) ? fire_alpha_ * std::sqrt(std::max(vn2, 0.0) / f_norm2_) : 0.0;
     const double keep = 1.0 - fire_alpha_;
-    for (int64_t i = 0; i < n_; ++i) {
-        const double g = z_[i] - h_[i];
-        const double fi = (g <= 0.0) ? std::max(f_[i], 0.0) : f_[i];
-        double zi = z_[i];
-        double vi = v_[i];
-        if (uphill) {
-            zi -= 0.5 * dt * vi;  // step back half a step (FIRE 2.0), then restart from rest
-            vi = 0.0;
+    double *z = z_.data(), *v = v_.data();
+    const double *h = h_.data(), *f = f_.data();
+    parallel_for(threads_, n_, kBlock, [&](int64_t i0, int64_t i1) {
+        for (int64_t i = i0; i < i1; ++i) {
+            const double fi = (z[i] <= h[i]) ? std::max(f[i], 0.0) : f[i];
+            double zi = z[i];
+            double vi = v[i];
+            if (uphill) {
+                zi -= 0.5 * dt * vi;  // step back half a step (FIRE 2.0), then restart from rest
+                vi = 0.0;
+            }
+            vi += dt * fi;
+            vi = keep * vi + mix * fi;
+            zi += dt * vi;
+            if (zi < h[i]) {
+                zi = h[i];
+                vi = 0.0;
+            }
+            v[i] = vi;
+            z[i] = zi;
         }
-        vi += dt * fi;
-        vi = keep * vi + mix * fi;
-        zi += dt * vi;
-        if (zi < h_[i]) {
-            zi = h_[i];
-            vi = 0.0;
-        }
-        v_[i] = vi;
-        z_[i] = zi;
-    }
+    });
 }
 
 void Simulation::advance_verlet() {
@@ -343,16 +399,20 @@ void Simulation::advance_verlet() {
     // z(t+dt) = z(t) + dt v(t+dt/2), then the hard wall z >= h with the velocity of a point that
     // hits it set to zero (seed paper, Sec. 2.2).
     const double c1 = 1.0 - 0.5 * eta_ * dt_, c2 = 1.0 / (1.0 + 0.5 * eta_ * dt_), dt = dt_;
-    for (int64_t i = 0; i < n_; ++i) {
-        double vi = (c1 * v_[i] + dt * f_[i]) * c2;
-        double zi = z_[i] + dt * vi;
-        if (zi < h_[i]) {
-            zi = h_[i];
-            vi = 0.0;
+    double *z = z_.data(), *v = v_.data();
+    const double *h = h_.data(), *f = f_.data();
+    parallel_for(threads_, n_, kBlock, [&](int64_t i0, int64_t i1) {
+        for (int64_t i = i0; i < i1; ++i) {
+            double vi = (c1 * v[i] + dt * f[i]) * c2;
+            double zi = z[i] + dt * vi;
+            if (zi < h[i]) {
+                zi = h[i];
+                vi = 0.0;
+            }
+            v[i] = vi;
+            z[i] = zi;
         }
-        v_[i] = vi;
-        z_[i] = zi;
-    }
+    });
 }
 
 void Simulation::save_state() {
@@ -396,15 +456,23 @@ bool Simulation::relax(double tol, int64_t max_steps, int64_t &steps_taken) {
 }
 
 double Simulation::contact_area() const {
-    int64_t c = 0;
-    for (int64_t i = 0; i < n_; ++i) c += (z_[i] <= h_[i]) ? 1 : 0;
-    return static_cast<double>(c) / static_cast<double>(n_);
+    const double *z = z_.data(), *h = h_.data();
+    const auto c = parallel_sums<1>(threads_, n_, kBlock, sums_.data(), [&](int64_t i0, int64_t i1, double *acc) {
+        int64_t k = 0;
+        for (int64_t i = i0; i < i1; ++i) k += (z[i] <= h[i]) ? 1 : 0;
+        acc[0] += static_cast<double>(k);
+    });
+    return c[0] / static_cast<double>(n_);
 }
 
 double Simulation::mean_gap() const {
-    double s = 0.0;
-    for (int64_t i = 0; i < n_; ++i) s += z_[i] - h_[i];
-    return s / static_cast<double>(n_);
+    const double *z = z_.data(), *h = h_.data();
+    const auto s = parallel_sums<1>(threads_, n_, kBlock, sums_.data(), [&](int64_t i0, int64_t i1, double *acc) {
+        double t = 0.0;
+        for (int64_t i = i0; i < i1; ++i) t += z[i] - h[i];
+        acc[0] += t;
+    });
+    return s[0] / static_cast<double>(n_);
 }
 
 void Simulation::heights(double *out) const { std::copy(h_.data(), h_.data() + n_, out); }

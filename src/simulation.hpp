@@ -36,6 +36,9 @@ public:
     void set_timestep(double dt);
     void set_damping(double eta);
     void set_solver(int32_t solver);
+    void set_threads(int threads);  // 0 = all cores
+    void set_planner(int32_t planner);
+    int threads() const { return threads_; }
     void reset();
 
     double timestep() const { return dt_; }
@@ -72,8 +75,11 @@ private:
     void restore_state();
     [[noreturn]] void diverged(int64_t step);
 
+    int threads_;
+    int32_t planner_ = 1;  // GFMD_PLANNER_MEASURE
     FftGrid grid_;
     int64_t n_;
+    int64_t rows_per_block_;
     double area_per_point_;
 
     // Parameters.
@@ -94,6 +100,7 @@ private:
     RealBuffer h_, z_, v_, f_, stiff_;
     ComplexBuffer work_;
     RealBuffer saved_z_, saved_v_;
+    mutable RealBuffer sums_;  // per-block partial sums of the threaded reductions
 
     // Cached observables of the current z (kept in step with z by evaluate_forces()).
     double u_el_ = 0.0, u_ad_ = 0.0, residual_ = 0.0;

@@ -17,6 +17,7 @@
     X(GFMD_ERR_DIVERGED,       7, "the dynamics diverged; the state was restored")  \
     X(GFMD_ERR_RANGE,          8, "the result is not representable as a double")    \
     X(GFMD_ERR_TRUNCATED,      9, "the output buffer was too small; output truncated") \
-    X(GFMD_ERR_INTERNAL,      10, "internal error")
+    X(GFMD_ERR_INTERNAL,      10, "internal error")                                \
+    X(GFMD_ERR_IO,            11, "a file could not be read or written")
 
 #endif
