@@ -4,8 +4,23 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
-#include "test_support.h"
+#include "gfmd.h"
+
+static double now(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* 1/G(q) = q E* / (2 f(q w)); 0 at q = 0 and where f cannot be evaluated */
+static double stiffness(int32_t kind, double width, double nu, double e_star, double qx, double qy) {
+    double q = sqrt(qx * qx + qy * qy), f = 1.0;
+    if (q == 0.0) return 0.0;
+    if (kind != GFMD_GREEN_HALFSPACE && gfmd_green_factor(kind, q * width, nu, &f) != GFMD_OK) return 0.0;
+    return 0.5 * q * e_star / f;
+}
 
 typedef struct {
     int64_t nx, ny, n, nxh;
@@ -31,16 +46,31 @@ static void convolve(conv_t *c, const double *in, double *out) {
 cg_result cg_solve(int64_t nx, int64_t ny, double lx, double ly, const double *h, int32_t kind, double width,
                    double nu, double e_star, double sigma0, double tol, int64_t max_iter, double *p_out,
                    double *gap_out) {
+    cg_options opt = {tol, max_iter, 0.0, 1, FFTW_ESTIMATE, 0.0, 0.0};
+    return cg_solve_opts(nx, ny, lx, ly, h, kind, width, nu, e_star, sigma0, &opt, p_out, gap_out);
+}
+
+cg_result cg_solve_opts(int64_t nx, int64_t ny, double lx, double ly, const double *h, int32_t kind, double width,
+                        double nu, double e_star, double sigma0, const cg_options *opt, double *p_out, double *gap_out) {
     conv_t c = {nx, ny, nx * ny, nx / 2 + 1, NULL, NULL, NULL, NULL, NULL};
     int64_t n = c.n;
+    const double tol = opt->tol;
+    const int64_t max_iter = opt->max_iter;
     c.compliance = malloc(sizeof(double) * (size_t)(c.ny * c.nxh));
     c.rbuf = fftw_alloc_real((size_t)n);
     c.cbuf = fftw_alloc_complex((size_t)(c.ny * c.nxh));
-    c.fwd = fftw_plan_dft_r2c_2d((int)ny, (int)nx, c.rbuf, c.cbuf, FFTW_ESTIMATE);
-    c.bwd = fftw_plan_dft_c2r_2d((int)ny, (int)nx, c.cbuf, c.rbuf, FFTW_ESTIMATE);
+    if (opt->threads > 1) {
+        fftw_init_threads();
+        fftw_plan_with_nthreads(opt->threads);
+    }
+    c.fwd = fftw_plan_dft_r2c_2d((int)ny, (int)nx, c.rbuf, c.cbuf, opt->fftw_flags);
+    c.bwd = fftw_plan_dft_c2r_2d((int)ny, (int)nx, c.cbuf, c.rbuf, opt->fftw_flags);
+    if (opt->threads > 1) fftw_plan_with_nthreads(1);
     for (int64_t ky = 0; ky < ny; ++ky)
         for (int64_t kx = 0; kx < c.nxh; ++kx) {
-            double k = ts_stiffness(kind, width, nu, e_star, ts_qx(kx, nx, lx), ts_qy(ky, ny, ly));
+            double qx = 2.0 * M_PI * (double)kx / lx;
+            double qy = 2.0 * M_PI * (double)((2 * ky > ny) ? ky - ny : ky) / ly;
+            double k = stiffness(kind, width, nu, e_star, qx, qy);
             c.compliance[ky * c.nxh + kx] = (k > 0.0) ? 1.0 / k : 0.0;
         }
 
@@ -50,7 +80,8 @@ cg_result cg_solve(int64_t nx, int64_t ny, double lx, double ly, const double *h
     for (int64_t i = 0; i < n; ++i) p[i] = sigma0;
     double g_old = 1.0;
     int delta = 0;
-    cg_result res = {0, 0, 0, 0, 0};
+    cg_result res = {0, 0, 0, 0, 0, 0.0, -1.0, -1};
+    const double t0 = now();
     for (res.iterations = 0; res.iterations < max_iter; ++res.iterations) {
         /* gap up to the rigid-body approach: g = u - h, shifted to zero mean on the contact set */
         convolve(&c, p, u);
@@ -106,11 +137,30 @@ cg_result cg_solve(int64_t nx, int64_t ny, double lx, double ly, const double *h
             p[i] *= sigma0 / mean;
             change += fabs(p[i] - pold[i]);
         }
+        double elapsed = now() - t0;
+        if (opt->target_area > 0.0) {
+            int64_t k = 0;
+            for (int64_t i = 0; i < n; ++i) k += p[i] > 0.0;
+            int inside = fabs((double)k / (double)n - opt->target_area) <= opt->target_band * opt->target_area;
+            if (!inside) {
+                res.seconds_to_target = -1.0;
+                res.iterations_to_target = -1;
+            } else if (res.seconds_to_target < 0.0) {
+                res.seconds_to_target = elapsed;
+                res.iterations_to_target = res.iterations + 1;
+            }
+        }
         if (change / (sigma0 * (double)n) < tol) {
             res.converged = 1;
+            ++res.iterations;
+            break;
+        }
+        if (opt->max_seconds > 0.0 && elapsed > opt->max_seconds) {
+            ++res.iterations;
             break;
         }
     }
+    res.seconds = now() - t0;
     /* observables of the final pressure */
     convolve(&c, p, u);
     double dbar = 0.0, ubar = 0.0, hbar = 0.0;

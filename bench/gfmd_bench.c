@@ -1,0 +1,185 @@
+/* gfmd benchmark: steps, time per step against the bare FFTW transforms a step needs, peak
+ * memory, and the same problem solved by a constrained-CG reference (Polonsky-Keer) in the same
+ * run, for half-space and layers on a fluid foundation.
+ *
+ *   gfmd_bench [--sizes 256,512,1024,2048] [--big] [--widths 0,0.5,1,4] [--threads N]
+ *              [--cg-seconds S] [--no-cg]
+ *
+ * Problem (the issue's): self-affine, H = 0.8, lambda_s = 4a, lambda_r = n a/8, rms gradient 1,
+ * E* = 1, sigma0 = 0.05; W = w/lambda_s, 0 = half-space.  The converged A/A0 comes from an
+ * untimed GFMD relaxation to 1e-10.  Then, from the same start, GFMD (in chunks of 5 steps) and
+ * CG are timed: the time after which A/A0 stays within 0.1 % of the converged value ("to 0.1 %",
+ * the speed-up compares these), and GFMD also until its default tolerance. */
+#include <fftw3.h>
+#include <gfmd.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "cg_reference.h"
+
+static double now(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* Peak resident memory since the last reset, in bytes (Linux: VmHWM, reset via clear_refs). */
+static void reset_peak(void) {
+    FILE *f = fopen("/proc/self/clear_refs", "w");
+    if (f) {
+        fputs("5", f);
+        fclose(f);
+    }
+}
+
+static double read_status_kb(const char *key) {
+    FILE *f = fopen("/proc/self/status", "r");
+    char line[256];
+    double kb = -1.0;
+    if (!f) return -1.0;
+    while (fgets(line, sizeof line, f))
+        if (!strncmp(line, key, strlen(key))) kb = atof(line + strlen(key));
+    fclose(f);
+    return kb;
+}
+
+/* The bare transforms one step needs: one r2c and one c2r of n x n, same threads and planner. */
+static double fft_pair_seconds(int n, int threads) {
+    double *r = fftw_alloc_real((size_t)n * (size_t)n);
+    fftw_complex *c = fftw_alloc_complex((size_t)n * (size_t)(n / 2 + 1));
+    fftw_init_threads();
+    fftw_plan_with_nthreads(threads);
+    fftw_plan f = fftw_plan_dft_r2c_2d(n, n, r, c, FFTW_MEASURE);
+    fftw_plan b = fftw_plan_dft_c2r_2d(n, n, c, r, FFTW_MEASURE);
+    fftw_plan_with_nthreads(1);
+    for (size_t i = 0; i < (size_t)n * (size_t)n; ++i) r[i] = sin(0.001 * (double)i);
+    int reps = n >= 2048 ? 10 : n >= 1024 ? 30 : 100;
+    double t0 = now();
+    for (int k = 0; k < reps; ++k) {
+        fftw_execute(f);
+        fftw_execute(b);
+    }
+    double t = (now() - t0) / reps;
+    fftw_destroy_plan(f);
+    fftw_destroy_plan(b);
+    fftw_free(r);
+    fftw_free(c);
+    return t;
+}
+
+static int parse_list(const char *s, double *out, int max) {
+    int k = 0;
+    while (*s && k < max) {
+        char *end;
+        out[k++] = strtod(s, &end);
+        if (*end != ',') break;
+        s = end + 1;
+    }
+    return k;
+}
+
+static void die(gfmd_sim *s, int32_t st, const char *what) {
+    char msg[256] = "";
+    if (s) gfmd_last_error(s, msg, sizeof msg);
+    fprintf(stderr, "%s: %s: %s\n", what, gfmd_status_string(st), msg);
+    exit(1);
+}
+
+int main(int argc, char **argv) {
+    double sizes[8] = {256, 512, 1024, 2048}, widths[8] = {0, 0.5, 1, 4};
+    int nsizes = 4, nwidths = 4, threads = 1, cg = 1;
+    double cg_seconds = 120.0;
+    for (int i = 1; i < argc; ++i) {
+        if (!strcmp(argv[i], "--sizes") && i + 1 < argc) nsizes = parse_list(argv[++i], sizes, 7);
+        else if (!strcmp(argv[i], "--big")) sizes[nsizes++] = 4096;
+        else if (!strcmp(argv[i], "--widths") && i + 1 < argc) nwidths = parse_list(argv[++i], widths, 8);
+        else if (!strcmp(argv[i], "--threads") && i + 1 < argc) threads = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--cg-seconds") && i + 1 < argc) cg_seconds = atof(argv[++i]);
+        else if (!strcmp(argv[i], "--no-cg")) cg = 0;
+        else {
+            fprintf(stderr, "usage: %s [--sizes 256,512,...] [--big] [--widths 0,0.5,1,4] [--threads N] "
+                            "[--cg-seconds S] [--no-cg]\n", argv[0]);
+            return 2;
+        }
+    }
+    if (threads < 1) threads = 1;
+    printf("gfmd %s benchmark: H = 0.8, lambda_s = 4a, lambda_r = n a/8, g = 1, E* = 1, sigma0 = 0.05, "
+           "%d thread(s), FFTW_MEASURE, default tol %.0e\n", gfmd_version(), threads, GFMD_DEFAULT_TOL);
+    printf("%5s %5s | %6s %8s %9s %9s %6s | %8s | %6s %8s | %7s %8s | %8s | %7s %6s\n", "n", "W", "steps", "seconds",
+           "s/step", "fft pair", "ratio", "A/A0", "steps", "s", "CG its", "CG s", "speedup", "peak MB", "B/pt");
+    printf("%5s %5s | %-43s | %8s | %-15s | %-16s | %8s | %14s\n", "", "", "GFMD (FIRE) to the default tolerance",
+           "", "GFMD to 0.1 %", "CG to 0.1 %", "", "memory");
+    for (int a = 0; a < nsizes; ++a) {
+        const int n = (int)sizes[a];
+        const double l = n, t_fft = fft_pair_seconds(n, threads);
+        for (int b = 0; b < nwidths; ++b) {
+            const double W = widths[b];
+            gfmd_sim *s = NULL;
+            int32_t st;
+            int64_t steps = 0, more = 0;
+            const double base_kb = read_status_kb("VmRSS:");
+            reset_peak();
+            if ((st = gfmd_sim_create(n, n, l, l, &s)) != GFMD_OK) die(NULL, st, "create");
+            if ((st = gfmd_set_threads(s, threads)) != GFMD_OK) die(s, st, "threads");
+            if ((st = gfmd_generate_selfaffine(s, 0.8, l / 8.0, 4.0, 1.0, 2016, GFMD_DIST_UNIFORM)) != GFMD_OK)
+                die(s, st, "substrate");
+            if (W > 0 && (st = gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, W * 4.0)) != GFMD_OK) die(s, st, "green");
+            if ((st = gfmd_set_pressure(s, 0.05)) != GFMD_OK) die(s, st, "pressure");
+            /* the converged value, untimed, then the same start again */
+            double area_conv = 0, area = 0, residual = 1;
+            if ((st = gfmd_relax(s, 1e-10, 10000000, &more)) != GFMD_OK) die(s, st, "relax to 1e-10");
+            gfmd_get_contact_area(s, &area_conv);
+            gfmd_reset(s);
+            gfmd_set_pressure(s, 0.05); /* restarts FIRE's adaptive state */
+            double t0 = now(), t_acc = -1.0; /* time after which A/A0 stayed within 0.1 % */
+            int64_t steps_acc = -1;
+            while (residual > GFMD_DEFAULT_TOL && steps < 10000000) {
+                if ((st = gfmd_step(s, 5)) != GFMD_OK) die(s, st, "step");
+                steps += 5;
+                gfmd_get_contact_area(s, &area);
+                gfmd_get_residual(s, &residual);
+                if (fabs(area - area_conv) > 1e-3 * area_conv) {
+                    t_acc = -1.0;
+                    steps_acc = -1;
+                } else if (t_acc < 0.0) {
+                    t_acc = now() - t0;
+                    steps_acc = steps;
+                }
+            }
+            const double t_gfmd = now() - t0;
+            const double peak_mb = (read_status_kb("VmHWM:") - base_kb) / 1024.0;
+            double *h = NULL;
+            cg_result r = {0, 0, 0, 0, 0, 0, -1, -1};
+            if (cg) {
+                h = malloc(sizeof(double) * (size_t)n * (size_t)n);
+                gfmd_get_heights(s, h);
+            }
+            gfmd_sim_destroy(&s);
+            if (cg) {
+                cg_options opt = {1e-12, 100000000, cg_seconds, threads, FFTW_MEASURE, area_conv, 1e-3};
+                r = cg_solve_opts(n, n, l, l, h, W > 0 ? GFMD_GREEN_LAYER_FLUID : GFMD_GREEN_HALFSPACE, W * 4.0, 0.0,
+                                  1.0, 0.05, &opt, NULL, NULL);
+                free(h);
+            }
+            char cg_its[32] = "-", cg_s[32] = "-", speed[32] = "-";
+            if (cg && r.seconds_to_target >= 0.0) {
+                snprintf(cg_its, sizeof cg_its, "%lld", (long long)r.iterations_to_target);
+                snprintf(cg_s, sizeof cg_s, "%.3g", r.seconds_to_target);
+                snprintf(speed, sizeof speed, "%.1fx", r.seconds_to_target / t_acc);
+            } else if (cg) { /* never settled within the time limit: a lower bound */
+                snprintf(cg_its, sizeof cg_its, ">%lld", (long long)r.iterations);
+                snprintf(cg_s, sizeof cg_s, ">%.3g", r.seconds);
+                snprintf(speed, sizeof speed, ">%.0fx", r.seconds / t_acc);
+            }
+            printf("%5d %5.2g | %6lld %8.3f %9.2e %9.2e %6.2f | %8.5f | %6lld %8.3f | %7s %8s | %8s | %7.1f %6.1f\n",
+                   n, W, (long long)steps, t_gfmd, t_gfmd / (double)steps, t_fft, t_gfmd / (double)steps / t_fft,
+                   area_conv, (long long)steps_acc, t_acc, cg_its, cg_s, speed, peak_mb,
+                   peak_mb * 1048576.0 / ((double)n * (double)n));
+            fflush(stdout);
+        }
+    }
+    return 0;
+}
