@@ -116,6 +116,24 @@ GFMD_API int32_t gfmd_sim_clone(const gfmd_sim *s, gfmd_sim **out);
 /** Destroy the handle in *sim and set *sim = NULL.  Accepts sim == NULL and *sim == NULL. */
 GFMD_API void gfmd_sim_destroy(gfmd_sim **sim);
 
+/**
+ * Checkpoint: save the complete state (grid, parameters, substrate, surface, velocities, solver
+ * state, thread and planner settings) to @p path, in the portable, versioned format of
+ * docs/guarantees.md.  Written to "<path>.tmp" and renamed, so a crash while saving never
+ * leaves a damaged file under @p path.  GFMD_ERR_IO if it cannot be written.
+ */
+GFMD_API int32_t gfmd_sim_save(const gfmd_sim *s, const char *path);
+
+/**
+ * Restart: create *out from a checkpoint.  A run continued from it repeats the saved run bit for
+ * bit when the FFT plans are the same (same process, imported wisdom, or GFMD_PLANNER_ESTIMATE).
+ * Refuses, with *out = NULL: GFMD_ERR_IO (cannot open), GFMD_ERR_FORMAT (not a checkpoint,
+ * truncated, checksum mismatch, invalid content), GFMD_ERR_VERSION (unknown format version),
+ * GFMD_ERR_NOMEM.  As there is no handle yet, the message goes to @p errbuf (capacity @p errlen,
+ * always NUL-terminated; errbuf may be NULL).
+ */
+GFMD_API int32_t gfmd_sim_load(const char *path, gfmd_sim **out, char *errbuf, int64_t errlen);
+
 /** Grid size and cell lengths given at creation.  Any output pointer may be NULL. */
 GFMD_API int32_t gfmd_get_grid(const gfmd_sim *s, int64_t *nx, int64_t *ny, double *lx, double *ly);
 

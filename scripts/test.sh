@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The newcomer's second command (and CI's): install what is missing, build and run the whole test
-# suite, then again under AddressSanitizer + UndefinedBehaviorSanitizer and under valgrind memcheck.
+# suite, then again under AddressSanitizer + UndefinedBehaviorSanitizer, the threads test under
+# ThreadSanitizer, every unit test under valgrind memcheck, and the fuzzer for 60 s.
 #   scripts/test.sh [--quick]   (--quick: the plain build only)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -35,15 +36,30 @@ cmake -S "$root" -B "$root/build-sanitize" -DCMAKE_BUILD_TYPE=Debug -DGFMD_SANIT
 cmake --build "$root/build-sanitize" -j "$jobs"
 run_ctest "$root/build-sanitize"
 
+echo "== ThreadSanitizer build: distinct handles in concurrent threads"
+cmake -S "$root" -B "$root/build-tsan" -DCMAKE_BUILD_TYPE=Debug -DGFMD_TSAN=ON -DGFMD_BUILD_FORTRAN=OFF \
+  -DGFMD_BUILD_EXAMPLES=OFF -DGFMD_BUILD_BENCHMARK=OFF >/dev/null
+cmake --build "$root/build-tsan" -j "$jobs" --target test_threads
+if TSAN_OPTIONS=halt_on_error=1 OMP_NUM_THREADS=1 "$root/build-tsan/tests/test_threads"; then
+  echo "tsan test_threads: clean"; passed=$((passed + 1))
+else
+  echo "tsan test_threads: FAILED"; failed=$((failed + 1))
+fi
+
+echo "== fuzzing the C API for 60 s (libFuzzer, ASan + UBSan)"
+if "$root/scripts/fuzz.sh" 60; then passed=$((passed + 1)); else failed=$((failed + 1)); fi
+
 echo "== valgrind memcheck: every unit test of the release build"
 logs="$root/build/valgrind"
 mkdir -p "$logs"
-for t in "$root"/build/tests/test_* "$root"/build/tests/fortran/test_fortran_bindings; do
+for t in "$root"/build/tests/test_* "$root"/build/tests/fortran/test_fortran_bindings "$root"/build/fuzz/fuzz_replay; do
   [ -x "$t" ] || continue
   name="$(basename "$t")"
-  if (cd "$root/build/tests" && valgrind -q --error-exitcode=99 --leak-check=full \
+  args=()
+  [ "$name" = fuzz_replay ] && args=("$root/fuzz/corpus" "$root/fuzz/regressions")
+  if (cd "$root/build/tests" && OMP_NUM_THREADS=1 valgrind -q --error-exitcode=99 --leak-check=full \
         --errors-for-leak-kinds=definite,indirect --show-leak-kinds=definite,indirect \
-        "$t" >"$logs/$name.log" 2>&1); then
+        "$t" "${args[@]}" >"$logs/$name.log" 2>&1); then
     echo "valgrind $name: clean"; passed=$((passed + 1))
   else
     echo "valgrind $name: FAILED"; tail -n 40 "$logs/$name.log"; failed=$((failed + 1))

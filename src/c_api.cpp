@@ -144,6 +144,42 @@ void gfmd_sim_destroy(gfmd_sim **sim) {
     *sim = nullptr;
 }
 
+int32_t gfmd_sim_save(const gfmd_sim *s, const char *path) {
+    return guarded(s, [&](const gfmd::Simulation &m) {
+        need(path, "path");
+        m.save(path);
+    });
+}
+
+int32_t gfmd_sim_load(const char *path, gfmd_sim **out, char *errbuf, int64_t errlen) {
+    if (out == nullptr) return GFMD_ERR_NULL;
+    *out = nullptr;
+    if (errbuf != nullptr && errlen > 0) errbuf[0] = '\0';
+    if (path == nullptr) return GFMD_ERR_NULL;
+    auto report = [&](const char *msg) {
+        if (errbuf == nullptr || errlen <= 0) return;
+        std::snprintf(errbuf, static_cast<std::size_t>(errlen), "%s", msg);
+    };
+    try {
+        auto handle = std::make_unique<gfmd_sim>();
+        handle->sim = gfmd::Simulation::load(path, fits_in_memory);
+        *out = handle.release();
+        return GFMD_OK;
+    } catch (const gfmd::Error &e) {
+        report(e.what());
+        return e.status();
+    } catch (const std::bad_alloc &) {
+        report("out of memory");
+        return GFMD_ERR_NOMEM;
+    } catch (const std::exception &e) {
+        report(e.what());
+        return GFMD_ERR_INTERNAL;
+    } catch (...) {
+        report("unknown internal error");
+        return GFMD_ERR_INTERNAL;
+    }
+}
+
 int32_t gfmd_get_grid(const gfmd_sim *s, int64_t *nx, int64_t *ny, double *lx, double *ly) {
     return guarded(s, [&](const gfmd::Simulation &m) {
         if (nx) *nx = m.grid().nx();

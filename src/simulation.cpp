@@ -247,7 +247,8 @@ void Simulation::set_solver(int32_t solver) {
 }
 
 void Simulation::set_threads(int threads) {
-    if (threads < 0) fail(GFMD_ERR_INVALID_ARG, "threads must be >= 0 (0 = all cores), got " + std::to_string(threads));
+    if (threads < 0 || threads > 4096)
+        fail(GFMD_ERR_INVALID_ARG, "threads must be in [0, 4096] (0 = all cores), got " + std::to_string(threads));
     const int t = (threads == 0) ? all_cores() : threads;
     grid_.replan(t, planner_);
     threads_ = t;

@@ -23,6 +23,10 @@ public:
     // Deep copy: an independent simulation in the same state (parameters, fields, solver state).
     std::unique_ptr<Simulation> clone() const;
 
+    // Checkpoint and restart (checkpoint.cpp): the complete state in a portable binary file.
+    void save(const char *path) const;
+    static std::unique_ptr<Simulation> load(const char *path, bool (*fits_in_memory)(int64_t, int64_t));
+
     const FftGrid &grid() const { return grid_; }
 
     // Setters check everything before changing anything (a failed call changes nothing).

@@ -22,6 +22,7 @@ module gfmd
   include 'gfmd_constants.inc'
 
   public :: gfmd_sim_t, gfmd_version, gfmd_status_string, gfmd_green_factor
+  public :: gfmd_import_wisdom, gfmd_export_wisdom
 
   !> A simulation: owns one C handle.
   type :: gfmd_sim_t
@@ -32,6 +33,11 @@ module gfmd
     procedure :: destroy => sim_destroy
     procedure :: is_created => sim_is_created
     procedure :: copy_to => sim_copy_to
+    procedure :: save => sim_save
+    procedure :: load => sim_load
+    procedure :: set_threads => sim_set_threads
+    procedure :: get_threads => sim_get_threads
+    procedure :: set_fft_planner => sim_set_fft_planner
     procedure :: get_grid => sim_get_grid
     procedure :: set_modulus => sim_set_modulus
     procedure :: set_green => sim_set_green
@@ -186,6 +192,29 @@ contains
     call finish(c_null_ptr, st, 'green_factor', stat, errmsg, '')
   end subroutine gfmd_green_factor
 
+  !> A Fortran string as a NUL-terminated C string.
+  function c_path(path) result(c)
+    character(*), intent(in) :: path
+    character(kind=c_char, len=:), allocatable :: c
+    c = trim(path) // char(0)
+  end function c_path
+
+  !> Load FFTW wisdom from a file (process-wide).
+  subroutine gfmd_import_wisdom(path, stat, errmsg)
+    character(*), intent(in) :: path
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    call finish(c_null_ptr, c_gfmd_import_wisdom(c_path(path)), 'import_wisdom', stat, errmsg, trim(path))
+  end subroutine gfmd_import_wisdom
+
+  !> Save the process's FFTW wisdom to a file.
+  subroutine gfmd_export_wisdom(path, stat, errmsg)
+    character(*), intent(in) :: path
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    call finish(c_null_ptr, c_gfmd_export_wisdom(c_path(path)), 'export_wisdom', stat, errmsg, trim(path))
+  end subroutine gfmd_export_wisdom
+
   ! ------------------------------------------------------------------ lifetime
 
   !> Create an nx x ny simulation on an lx x ly cell (replacing one this object held).
@@ -249,6 +278,72 @@ contains
     type(gfmd_sim_t), intent(inout) :: self
     call c_gfmd_sim_destroy(self%ptr)
   end subroutine sim_final
+
+  !> Checkpoint: the complete state to a file (see docs/guarantees.md).
+  subroutine sim_save(self, path, stat, errmsg)
+    class(gfmd_sim_t), intent(in) :: self
+    character(*), intent(in) :: path
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    call finish(self%ptr, c_gfmd_sim_save(self%ptr, c_path(path)), 'save', stat, errmsg)
+  end subroutine sim_save
+
+  !> Restart: replace this object's simulation by the one saved in a checkpoint file (kept as
+  !> it was if the file is refused).
+  subroutine sim_load(self, path, stat, errmsg)
+    class(gfmd_sim_t), intent(inout) :: self
+    character(*), intent(in) :: path
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    type(c_ptr) :: p
+    integer(c_int32_t) :: st
+    character(kind=c_char) :: buf(512)
+    character(len=512) :: msg
+    integer :: i
+    buf = char(0)
+    st = c_gfmd_sim_load(c_path(path), p, buf, int(size(buf), c_int64_t))
+    if (st == GFMD_OK) then
+      call c_gfmd_sim_destroy(self%ptr)
+      self%ptr = p
+    end if
+    msg = ''
+    do i = 1, size(buf)
+      if (buf(i) == char(0)) exit
+      msg(i:i) = buf(i)
+    end do
+    call finish(c_null_ptr, st, 'load', stat, errmsg, trim(msg))
+  end subroutine sim_load
+
+  !> Threads of this simulation (0 = all cores).
+  subroutine sim_set_threads(self, nthreads, stat, errmsg)
+    class(gfmd_sim_t), intent(inout) :: self
+    integer, intent(in) :: nthreads
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    call finish(self%ptr, c_gfmd_set_threads(self%ptr, int(nthreads, c_int32_t)), 'set_threads', stat, errmsg)
+  end subroutine sim_set_threads
+
+  subroutine sim_get_threads(self, nthreads, stat, errmsg)
+    class(gfmd_sim_t), intent(in) :: self
+    integer, intent(out) :: nthreads
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    integer(c_int32_t) :: n
+    integer(c_int32_t) :: st
+    n = 0
+    st = c_gfmd_get_threads(self%ptr, n)
+    nthreads = int(n)
+    call finish(self%ptr, st, 'get_threads', stat, errmsg)
+  end subroutine sim_get_threads
+
+  !> GFMD_PLANNER_ESTIMATE, GFMD_PLANNER_MEASURE (default) or GFMD_PLANNER_PATIENT.
+  subroutine sim_set_fft_planner(self, planner, stat, errmsg)
+    class(gfmd_sim_t), intent(inout) :: self
+    integer, intent(in) :: planner
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    call finish(self%ptr, c_gfmd_set_fft_planner(self%ptr, int(planner, c_int32_t)), 'set_fft_planner', stat, errmsg)
+  end subroutine sim_set_fft_planner
 
   !> Grid size and cell lengths.
   subroutine sim_get_grid(self, nx, ny, lx, ly, stat, errmsg)

@@ -12,6 +12,8 @@ module gfmd_c_api
   public :: c_gfmd_set_solver, c_gfmd_get_dynamics, c_gfmd_step, c_gfmd_relax, c_gfmd_get_residual
   public :: c_gfmd_reset, c_gfmd_get_contact_area, c_gfmd_get_mean_gap, c_gfmd_get_energies
   public :: c_gfmd_get_gap, c_gfmd_get_surface, c_gfmd_get_pressure, c_strlen
+  public :: c_gfmd_sim_save, c_gfmd_sim_load, c_gfmd_set_threads, c_gfmd_get_threads
+  public :: c_gfmd_set_fft_planner, c_gfmd_import_wisdom, c_gfmd_export_wisdom
 
   interface
     ! const char *gfmd_version(void);
@@ -264,6 +266,62 @@ module gfmd_c_api
       import :: c_ptr, c_int32_t, c_double
       type(c_ptr), value :: s
       real(c_double), intent(inout) :: p(*)
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_sim_save(const gfmd_sim *s, const char *path);
+    function c_gfmd_sim_save(s, path) bind(C, name="gfmd_sim_save") result(r)
+      import :: c_ptr, c_char, c_int32_t
+      type(c_ptr), value :: s
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_sim_load(const char *path, gfmd_sim **out, char *errbuf, int64_t errlen);
+    function c_gfmd_sim_load(path, out, errbuf, errlen) bind(C, name="gfmd_sim_load") result(r)
+      import :: c_ptr, c_char, c_int32_t, c_int64_t
+      character(kind=c_char), intent(in) :: path(*)
+      type(c_ptr), intent(out) :: out
+      character(kind=c_char), intent(out) :: errbuf(*)
+      integer(c_int64_t), value :: errlen
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_set_threads(gfmd_sim *s, int32_t nthreads);
+    function c_gfmd_set_threads(s, nthreads) bind(C, name="gfmd_set_threads") result(r)
+      import :: c_ptr, c_int32_t
+      type(c_ptr), value :: s
+      integer(c_int32_t), value :: nthreads
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_get_threads(const gfmd_sim *s, int32_t *nthreads);
+    function c_gfmd_get_threads(s, nthreads) bind(C, name="gfmd_get_threads") result(r)
+      import :: c_ptr, c_int32_t
+      type(c_ptr), value :: s
+      integer(c_int32_t), intent(out) :: nthreads
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_set_fft_planner(gfmd_sim *s, int32_t planner);
+    function c_gfmd_set_fft_planner(s, planner) bind(C, name="gfmd_set_fft_planner") result(r)
+      import :: c_ptr, c_int32_t
+      type(c_ptr), value :: s
+      integer(c_int32_t), value :: planner
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_import_wisdom(const char *path);
+    function c_gfmd_import_wisdom(path) bind(C, name="gfmd_import_wisdom") result(r)
+      import :: c_char, c_int32_t
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_export_wisdom(const char *path);
+    function c_gfmd_export_wisdom(path) bind(C, name="gfmd_export_wisdom") result(r)
+      import :: c_char, c_int32_t
+      character(kind=c_char), intent(in) :: path(*)
       integer(c_int32_t) :: r
     end function
 

@@ -18,6 +18,8 @@
     X(GFMD_ERR_RANGE,          8, "the result is not representable as a double")    \
     X(GFMD_ERR_TRUNCATED,      9, "the output buffer was too small; output truncated") \
     X(GFMD_ERR_INTERNAL,      10, "internal error")                                \
-    X(GFMD_ERR_IO,            11, "a file could not be read or written")
+    X(GFMD_ERR_IO,            11, "a file could not be read or written")           \
+    X(GFMD_ERR_FORMAT,        12, "the file is not a valid gfmd checkpoint (truncated or corrupted)") \
+    X(GFMD_ERR_VERSION,       13, "the checkpoint's format version is not supported")
 
 #endif

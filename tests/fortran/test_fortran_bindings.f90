@@ -15,6 +15,7 @@ program test_fortran_bindings
   call error_paths()
   call destroy_twice()
   call assignment_copies()
+  call checkpoint_restart()
 
   print '(i0, " passed, ", i0, " failed")', passed, failed
   if (failed > 0) error stop 1
@@ -207,5 +208,48 @@ contains
     call b%destroy()
     call c%destroy()
   end subroutine assignment_copies
+
+  !> Save, load, and continue: the same as continuing the original, bit for bit; a damaged
+  !> file is refused through stat and leaves the object as it was.
+  subroutine checkpoint_restart()
+    type(gfmd_sim_t) :: a, b
+    real(dp) :: za(24, 16), zb(24, 16), area
+    integer :: st, u, nthreads
+    character(len=300) :: msg
+    call a%create(24, 16, 24.0_dp, 16.0_dp)
+    call a%set_threads(1)
+    call a%get_threads(nthreads)
+    call check(nthreads == 1, 'threads set')
+    call a%generate_selfaffine(0.8_dp, 8.0_dp, 3.0_dp, 1.0_dp, 4)
+    call a%set_pressure(0.05_dp)
+    call a%step(20)
+    call a%save('fortran_checkpoint.gfmd')
+    call b%load('fortran_checkpoint.gfmd')
+    call a%step(30)
+    call b%step(30)
+    call a%get_surface(za)
+    call b%get_surface(zb)
+    call check(all(za == zb), 'restart continues bit for bit')
+    open (newunit=u, file='fortran_damaged.gfmd', status='replace', access='stream')
+    write (u) 'GFMDCKPT', 1_c_int32_t
+    close (u)
+    call b%get_contact_area(area)
+    call b%load('fortran_damaged.gfmd', stat=st, errmsg=msg)
+    call check(st == GFMD_ERR_FORMAT, 'truncated checkpoint refused')
+    call check(index(msg, 'truncated') > 0, 'load message: ' // trim(msg))
+    call check(b%is_created(), 'a refused load keeps the simulation')
+    call b%load('no/such/file', stat=st)
+    call check(st == GFMD_ERR_IO, 'missing checkpoint')
+    call gfmd_export_wisdom('fortran_wisdom.txt', stat=st)
+    call check(st == GFMD_OK, 'export wisdom')
+    call a%destroy()
+    call b%destroy()
+    open (newunit=u, file='fortran_checkpoint.gfmd')
+    close (u, status='delete')
+    open (newunit=u, file='fortran_damaged.gfmd')
+    close (u, status='delete')
+    open (newunit=u, file='fortran_wisdom.txt')
+    close (u, status='delete')
+  end subroutine checkpoint_restart
 
 end program test_fortran_bindings

@@ -1,0 +1,150 @@
+// libFuzzer target: drives the public C API with arbitrary grid sizes, parameters (NaN, inf,
+// denormals, huge, negative), height fields and call orders, and checks after every call that
+// the library answered with a known status and that the state it reports is sane.  Any crash,
+// sanitizer report, hang or broken invariant is a finding.
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <vector>
+
+#include "gfmd.h"
+
+namespace {
+
+class Input {
+public:
+    Input(const uint8_t *d, size_t n) : d_(d), n_(n) {}
+    bool empty() const { return i_ >= n_; }
+    uint8_t u8() { return i_ < n_ ? d_[i_++] : 0; }
+    int64_t i64() {
+        uint64_t x = 0;
+        for (int k = 0; k < 8; ++k) x |= static_cast<uint64_t>(u8()) << (8 * k);
+        return static_cast<int64_t>(x);
+    }
+    // Either a raw bit pattern or one of the values that break numerical code.
+    double f64() {
+        static const double table[] = {0.0,   -0.0,    1.0,     -1.0,  0.5,     2.0,    1e-8,    1e8,
+                                       1e-310, -1e-310, 1e300,  -1e300, INFINITY, -INFINITY, NAN, 0.05,
+                                       4.0,   64.0,    0.8,     1e-4,  1e100,   1e-100, 3.0,     0.3};
+        const uint8_t sel = u8();
+        if (sel < 200) return table[sel % (sizeof table / sizeof table[0])];
+        uint64_t x = static_cast<uint64_t>(i64());
+        double d;
+        std::memcpy(&d, &x, 8);
+        return d;
+    }
+
+private:
+    const uint8_t *d_;
+    size_t n_;
+    size_t i_ = 0;
+};
+
+[[noreturn]] void finding() { __builtin_trap(); }
+
+void check_status(int32_t st) {
+    if (st < GFMD_OK || st >= GFMD_STATUS_END_) finding();
+    if (st == GFMD_ERR_INTERNAL) finding();  // every failure must have a proper cause
+}
+
+// The observable state of a handle must always be sane.
+void check_state(gfmd_sim *s, int64_t n) {
+    double area = -1, gap = -1, el = -1, ad = -1, res = -1;
+    if (gfmd_get_contact_area(s, &area) != GFMD_OK || !(area >= 0.0 && area <= 1.0)) finding();
+    if (gfmd_get_mean_gap(s, &gap) != GFMD_OK || !(gap >= 0.0) || !std::isfinite(gap)) finding();
+    if (gfmd_get_energies(s, &el, &ad) != GFMD_OK || !(el >= 0.0) || !(ad >= 0.0)) finding();
+    if (gfmd_get_residual(s, &res) != GFMD_OK || std::isnan(res)) finding();
+    std::vector<double> g(static_cast<size_t>(n));
+    if (gfmd_get_gap(s, g.data()) != GFMD_OK) finding();
+    for (double x : g)
+        if (!(x >= 0.0) || !std::isfinite(x)) finding();
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+    Input in(data, size);
+    const int64_t nx = static_cast<int64_t>(in.u8() % 33) - 1;  // includes 0 and -1
+    const int64_t ny = static_cast<int64_t>(in.u8() % 33) - 1;
+    const double lx = in.f64(), ly = in.f64();
+    gfmd_sim *s = nullptr;
+    int32_t st = gfmd_sim_create(nx, ny, lx, ly, &s);
+    check_status(st);
+    if (st != GFMD_OK) {
+        if (s != nullptr) finding();
+        return 0;
+    }
+    gfmd_set_threads(s, 1);
+    const int64_t n = nx * ny;
+    std::vector<double> field(static_cast<size_t>(n));
+    for (int op = 0; op < 48 && !in.empty(); ++op) {
+        switch (in.u8() % 20) {
+            case 0: st = gfmd_set_modulus(s, in.f64()); break;
+            case 1: {
+                const int32_t kind = static_cast<int32_t>(in.u8() % 5) - 1;
+                st = gfmd_set_green(s, kind, in.f64());
+                break;
+            }
+            case 2: st = gfmd_set_poisson(s, in.f64()); break;
+            case 3:
+                for (auto &x : field) x = in.f64();
+                st = gfmd_set_heights(s, field.data());
+                break;
+            case 4: {
+                const double hurst = in.f64(), lr = in.f64(), ls = in.f64(), g = in.f64();
+                st = gfmd_generate_selfaffine(s, hurst, lr, ls, g, static_cast<uint64_t>(in.i64()),
+                                              static_cast<int32_t>(in.u8() % 3));
+                break;
+            }
+            case 5: st = gfmd_set_pressure(s, in.f64()); break;
+            case 6: {
+                const double g0 = in.f64();
+                st = gfmd_set_adhesion(s, g0, in.f64());
+                break;
+            }
+            case 7: st = gfmd_set_timestep(s, in.f64()); break;
+            case 8: st = gfmd_set_damping(s, in.f64()); break;
+            case 9: st = gfmd_set_solver(s, static_cast<int32_t>(in.u8() % 3)); break;
+            case 10: st = gfmd_step(s, static_cast<int64_t>(in.u8() % 40) - 2); break;
+            case 11: {
+                int64_t taken = -1;
+                const double tol = in.f64();
+                st = gfmd_relax(s, tol, static_cast<int64_t>(in.u8() % 200) - 1, &taken);
+                break;
+            }
+            case 12: st = gfmd_reset(s); break;
+            case 13: st = gfmd_get_pressure(s, field.data()); break;
+            case 14: st = gfmd_get_surface(s, field.data()); break;
+            case 15: {
+                gfmd_sim *c = nullptr;
+                st = gfmd_sim_clone(s, &c);
+                if (st == GFMD_OK) {
+                    check_state(c, n);
+                    gfmd_sim_destroy(&c);
+                }
+                break;
+            }
+            case 16: st = gfmd_set_fft_planner(s, static_cast<int32_t>(in.u8() % 4) - 1); break;
+            case 17: {
+                double f = 0;
+                st = gfmd_green_factor(static_cast<int32_t>(in.u8() % 4), in.f64(), in.f64(), &f);
+                if (st == GFMD_OK && !(f > 0.0 && std::isfinite(f))) finding();
+                break;
+            }
+            case 18: {
+                char buf[16];
+                st = gfmd_last_error(s, buf, static_cast<int64_t>(in.u8() % 17));
+                if (st == GFMD_OK && std::strlen(buf) >= sizeof buf) finding();
+                if (st == GFMD_ERR_INVALID_ARG) st = GFMD_OK;
+                break;
+            }
+            default: st = gfmd_set_threads(s, static_cast<int32_t>(in.u8() % 4) - 1); break;
+        }
+        check_status(st);
+        check_state(s, n);
+    }
+    gfmd_sim_destroy(&s);
+    if (s != nullptr) finding();
+    return 0;
+}

@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer target with clang (ASan + UBSan) and fuzzes the C API for a bounded time.
+# Any crash, hang, leak or sanitizer report fails; the input that caused it is left in
+# build-fuzz/findings/ -- copy it to fuzz/regressions/ so that ctest replays it forever.
+#   scripts/fuzz.sh [seconds]   (default 60)
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+seconds="${1:-60}"
+"$root/scripts/setup.sh" clang libclang-rt-14-dev libomp-14-dev
+cmake -S "$root" -B "$root/build-fuzz" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DGFMD_FUZZ=ON \
+  -DGFMD_BUILD_TESTS=OFF -DGFMD_BUILD_EXAMPLES=OFF -DGFMD_BUILD_BENCHMARK=OFF -DGFMD_BUILD_FORTRAN=OFF >/dev/null
+cmake --build "$root/build-fuzz" -j "$(nproc)" --target fuzz_api
+work="$root/build-fuzz/corpus"
+findings="$root/build-fuzz/findings"
+mkdir -p "$work" "$findings"
+cd "$findings"
+# New inputs go to the scratch corpus; the checked-in corpus and regressions seed it.
+OMP_NUM_THREADS=1 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
+  "$root/build-fuzz/fuzz/fuzz_api" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=2048 \
+  -print_final_stats=1 "$work" "$root/fuzz/corpus" "$root/fuzz/regressions"
+echo "fuzz: ${seconds} s without a finding"

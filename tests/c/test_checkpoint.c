@@ -1,0 +1,143 @@
+/* Checkpoint and restart: N steps, save, load, M steps equals N + M steps bit for bit; damaged
+ * files (truncated, corrupted, another version, not a checkpoint, missing) are refused with their
+ * own status and a message, never a crash. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "gfmd.h"
+#include "test_support.h"
+
+enum { NX = 40, NY = 24 };
+static const char *PATH = "test_checkpoint.gfmd";
+
+static gfmd_sim *make(int32_t solver) {
+    gfmd_sim *s = ts_create(NX, NY, 40.0, 24.0);
+    TS_OK(s, gfmd_generate_selfaffine(s, 0.8, 12.0, 3.0, 1.0, 21, GFMD_DIST_UNIFORM));
+    TS_OK(s, gfmd_set_poisson(s, 0.3));
+    TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_BONDED, 2.0));
+    TS_OK(s, gfmd_set_adhesion(s, 0.002, 0.5));
+    TS_OK(s, gfmd_set_solver(s, solver));
+    TS_OK(s, gfmd_set_pressure(s, 0.03));
+    return s;
+}
+
+static void fields(const gfmd_sim *s, double *z, double *p) {
+    TS_OK(s, gfmd_get_surface(s, z));
+    TS_OK(s, gfmd_get_pressure(s, p));
+}
+
+static void restart_is_bit_exact(void **state) {
+    (void)state;
+    for (int32_t solver = GFMD_SOLVER_VERLET; solver <= GFMD_SOLVER_FIRE; ++solver) {
+        gfmd_sim *a = make(solver), *b = NULL;
+        double za[NX * NY], pa[NX * NY], zb[NX * NY], pb[NX * NY];
+        TS_OK(a, gfmd_step(a, 37));
+        TS_OK(a, gfmd_sim_save(a, PATH));
+        char msg[256] = "x";
+        assert_int_equal(gfmd_sim_load(PATH, &b, msg, sizeof msg), GFMD_OK);
+        assert_string_equal(msg, "");
+        TS_OK(a, gfmd_step(a, 50));
+        TS_OK(b, gfmd_step(b, 50));
+        fields(a, za, pa);
+        fields(b, zb, pb);
+        assert_memory_equal(za, zb, sizeof za);
+        assert_memory_equal(pa, pb, sizeof pa);
+        double ea, ua, eb, ub;
+        TS_OK(a, gfmd_get_energies(a, &ea, &ua));
+        TS_OK(b, gfmd_get_energies(b, &eb, &ub));
+        assert_true(ea == eb && ua == ub);
+        gfmd_sim_destroy(&a);
+        gfmd_sim_destroy(&b);
+    }
+    remove(PATH);
+}
+
+static long file_size(const char *path) {
+    FILE *f = fopen(path, "rb");
+    assert_non_null(f);
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fclose(f);
+    return n;
+}
+
+static void rewrite(const char *path, long keep, long flip_at, const unsigned char *patch, size_t patch_len,
+                    long patch_at) {
+    FILE *f = fopen(path, "rb");
+    long n = file_size(path);
+    unsigned char *buf = malloc((size_t)n);
+    assert_int_equal(fread(buf, 1, (size_t)n, f), (size_t)n);
+    fclose(f);
+    if (flip_at >= 0) buf[flip_at] ^= 0x10;
+    if (patch) memcpy(buf + patch_at, patch, patch_len);
+    f = fopen("damaged.gfmd", "wb");
+    fwrite(buf, 1, (size_t)(keep >= 0 ? keep : n), f);
+    fclose(f);
+    free(buf);
+}
+
+static void expect_refused(int32_t expected, const char *what) {
+    gfmd_sim *s = (gfmd_sim *)&s;
+    char msg[256] = "";
+    int32_t st = gfmd_sim_load("damaged.gfmd", &s, msg, sizeof msg);
+    if (st != expected) fail_msg("%s: got %s (%s)", what, gfmd_status_string(st), msg);
+    assert_null(s);
+    assert_true(strlen(msg) > 0);
+    print_message("%s: %s: %s\n", what, gfmd_status_string(st), msg);
+}
+
+static void damaged_files_are_refused(void **state) {
+    (void)state;
+    gfmd_sim *a = make(GFMD_SOLVER_FIRE);
+    TS_OK(a, gfmd_step(a, 10));
+    TS_OK(a, gfmd_sim_save(a, PATH));
+    gfmd_sim_destroy(&a);
+    const long n = file_size(PATH);
+    assert_int_equal(n, 8 + 8 + 32 + 8 + 4 + 7 * 8 + 12 + 24 + 3 * 8 * NX * NY + 8);
+
+    const long cuts[] = {0, 5, 12, 100, n / 2, n - 1};
+    for (int i = 0; i < 6; ++i) {
+        rewrite(PATH, cuts[i], -1, NULL, 0, 0);
+        expect_refused(GFMD_ERR_FORMAT, "truncated");
+    }
+    const long flips[] = {20, 60, 200, n / 2, n - 3};
+    for (int i = 0; i < 5; ++i) {
+        rewrite(PATH, -1, flips[i], NULL, 0, 0);
+        expect_refused(GFMD_ERR_FORMAT, "corrupted");
+    }
+    const unsigned char v2[4] = {2, 0, 0, 0};
+    rewrite(PATH, -1, -1, v2, 4, 8);
+    expect_refused(GFMD_ERR_VERSION, "another version");
+    const unsigned char junk[8] = {'P', 'K', 3, 4, 0, 0, 0, 0};
+    rewrite(PATH, -1, -1, junk, 8, 0);
+    expect_refused(GFMD_ERR_FORMAT, "not a checkpoint");
+
+    gfmd_sim *s = NULL;
+    char msg[64];
+    assert_int_equal(gfmd_sim_load("no/such/file.gfmd", &s, msg, sizeof msg), GFMD_ERR_IO);
+    assert_int_equal(gfmd_sim_load(NULL, &s, msg, sizeof msg), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_sim_load(PATH, NULL, msg, sizeof msg), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_sim_load(PATH, &s, NULL, 0), GFMD_OK); /* the message buffer is optional */
+    assert_int_equal(gfmd_sim_save(s, "no/such/dir/x.gfmd"), GFMD_ERR_IO);
+    assert_int_equal(gfmd_sim_save(s, NULL), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_sim_save(NULL, PATH), GFMD_ERR_NULL);
+    gfmd_sim_destroy(&s);
+    remove(PATH);
+    remove("damaged.gfmd");
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(restart_is_bit_exact),
+        cmocka_unit_test(damaged_files_are_refused),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
