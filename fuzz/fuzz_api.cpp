@@ -4,6 +4,7 @@
 // sanitizer report, hang or broken invariant is a finding.
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <vector>
@@ -41,7 +42,11 @@ private:
     size_t i_ = 0;
 };
 
-[[noreturn]] void finding() { __builtin_trap(); }
+[[noreturn]] void finding_at(int line) {
+    std::fprintf(stderr, "fuzz_api: invariant broken at fuzz_api.cpp:%d\n", line);
+    __builtin_trap();
+}
+#define finding() finding_at(__LINE__)
 
 void check_status(int32_t st) {
     if (st < GFMD_OK || st >= GFMD_STATUS_END_) finding();
@@ -92,9 +97,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
                 st = gfmd_set_heights(s, field.data());
                 break;
             case 4: {
+                // one read per statement: argument evaluation order differs between compilers
                 const double hurst = in.f64(), lr = in.f64(), ls = in.f64(), g = in.f64();
-                st = gfmd_generate_selfaffine(s, hurst, lr, ls, g, static_cast<uint64_t>(in.i64()),
-                                              static_cast<int32_t>(in.u8() % 3));
+                const auto seed = static_cast<uint64_t>(in.i64());
+                const auto dist = static_cast<int32_t>(in.u8() % 3);
+                st = gfmd_generate_selfaffine(s, hurst, lr, ls, g, seed, dist);
                 break;
             }
             case 5: st = gfmd_set_pressure(s, in.f64()); break;
@@ -128,7 +135,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
             case 16: st = gfmd_set_fft_planner(s, static_cast<int32_t>(in.u8() % 4) - 1); break;
             case 17: {
                 double f = 0;
-                st = gfmd_green_factor(static_cast<int32_t>(in.u8() % 4), in.f64(), in.f64(), &f);
+                const auto kind = static_cast<int32_t>(in.u8() % 4);
+                const double t = in.f64();
+                const double nu = in.f64();
+                st = gfmd_green_factor(kind, t, nu, &f);
                 if (st == GFMD_OK && !(f > 0.0 && std::isfinite(f))) finding();
                 break;
             }

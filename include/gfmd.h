@@ -157,8 +157,8 @@ GFMD_API int32_t gfmd_set_poisson(gfmd_sim *s, double nu);
  * (1 for the half-space).  Accurate to a few ulps for all t > 0: the closed forms are evaluated by
  * series where they cancel and in exponentially scaled form where they overflow.
  * @param nu Poisson's ratio, used by GFMD_GREEN_LAYER_BONDED only.
- * @return GFMD_ERR_INVALID_ARG for t <= 0 or non-finite, GFMD_ERR_RANGE if f overflows
- *         (t below about 1e-103 for the fluid foundation).
+ * @return GFMD_ERR_INVALID_ARG for t <= 0 or non-finite, GFMD_ERR_RANGE if f over- or underflows
+ *         (t below about 1e-103 for the fluid foundation or the incompressible bonded layer).
  */
 GFMD_API int32_t gfmd_green_factor(int32_t kind, double t, double nu, double *f);
 

@@ -208,7 +208,7 @@ int32_t gfmd_green_factor(int32_t kind, double t, double nu, double *f) {
     if (!std::isfinite(t) || t <= 0.0) return GFMD_ERR_INVALID_ARG;
     if (kind == GFMD_GREEN_LAYER_BONDED && (!std::isfinite(nu) || nu <= -1.0 || nu > 0.5)) return GFMD_ERR_INVALID_ARG;
     const double v = gfmd::green_factor(kind, t, nu);
-    if (!std::isfinite(v)) return GFMD_ERR_RANGE;
+    if (!(v > 0.0) || !std::isfinite(v)) return GFMD_ERR_RANGE;  // over- or underflow (fuzz finding)
     *f = v;
     return GFMD_OK;
 }

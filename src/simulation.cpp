@@ -68,7 +68,7 @@ Simulation::Simulation(int64_t nx, int64_t ny, double lx, double ly)
       work_(static_cast<std::size_t>(grid_.complex_size())),
       saved_z_(static_cast<std::size_t>(n_)),
       saved_v_(static_cast<std::size_t>(n_)),
-      sums_(static_cast<std::size_t>(4 * std::max(block_count(n_, kBlock), block_count(ny, rows_per_block_)))) {
+      sums_(static_cast<std::size_t>(5 * std::max(block_count(n_, kBlock), block_count(ny, rows_per_block_)))) {
     adopt_stiffness(stiffness_for(kind_, width_, e_star_, nu_));
     reset();
 }
@@ -149,13 +149,49 @@ void Simulation::update_dynamics() {
     restart_fire();
 }
 
+// Applies a change, then checks that the forces and energies of the new state are finite; if
+// they overflow (extreme but individually valid values, e.g. E* = 1e300 with unit heights), the
+// change is undone and the call fails with nothing changed.
+template <class Apply, class Undo>
+void Simulation::change(const char *what, Apply &&apply, Undo &&undo) {
+    apply();
+    evaluate_forces();
+    if (std::isfinite(u_el_) && std::isfinite(u_ad_) && !std::isnan(residual_)) return;
+    undo();
+    evaluate_forces();
+    fail(GFMD_ERR_RANGE, std::string(what) + " would make the forces or energies overflow double precision; "
+                                             "nothing was changed");
+}
+
+// A new Green's function, modulus or Poisson ratio: new stiffness, kept only if finite.
+void Simulation::change_body(const char *what, int32_t kind, double width, double e_star, double nu) {
+    RealBuffer k = stiffness_for(kind, width, e_star, nu);
+    RealBuffer old;
+    const int32_t old_kind = kind_;
+    const double old_width = width_, old_e = e_star_, old_nu = nu_;
+    change(
+        what,
+        [&] {
+            old = std::move(stiff_);
+            kind_ = kind;
+            width_ = width;
+            e_star_ = e_star;
+            nu_ = nu;
+            adopt_stiffness(std::move(k));
+        },
+        [&] {
+            kind_ = old_kind;
+            width_ = old_width;
+            e_star_ = old_e;
+            nu_ = old_nu;
+            adopt_stiffness(std::move(old));
+        });
+}
+
 void Simulation::set_modulus(double e_star) {
     require_finite(e_star, "E*");
     if (e_star <= 0.0) fail(GFMD_ERR_INVALID_ARG, "E* must be > 0, got " + num(e_star));
-    RealBuffer k = stiffness_for(kind_, width_, e_star, nu_);
-    e_star_ = e_star;
-    adopt_stiffness(std::move(k));
-    evaluate_forces();
+    change_body("E*", kind_, width_, e_star, nu_);
 }
 
 void Simulation::set_green(int32_t kind, double width) {
@@ -169,24 +205,38 @@ void Simulation::set_green(int32_t kind, double width) {
     }
     if (kind == GFMD_GREEN_LAYER_BONDED && std::isnan(nu_))
         fail(GFMD_ERR_STATE, "the bonded layer needs Poisson's ratio: call gfmd_set_poisson first");
-    RealBuffer k = stiffness_for(kind, width, e_star_, nu_);
-    kind_ = kind;
-    width_ = width;
-    adopt_stiffness(std::move(k));
-    evaluate_forces();
+    change_body("this Green's function", kind, width, e_star_, nu_);
 }
 
 void Simulation::set_poisson(double nu) {
     require_finite(nu, "Poisson's ratio");
     if (nu <= -1.0 || nu > 0.5) fail(GFMD_ERR_INVALID_ARG, "Poisson's ratio must be in (-1, 0.5], got " + num(nu));
-    if (kind_ == GFMD_GREEN_LAYER_BONDED) {
-        RealBuffer k = stiffness_for(kind_, width_, e_star_, nu);
+    if (kind_ == GFMD_GREEN_LAYER_BONDED)
+        change_body("this Poisson ratio", kind_, width_, e_star_, nu);
+    else
         nu_ = nu;
-        adopt_stiffness(std::move(k));
-        evaluate_forces();
-    } else {
-        nu_ = nu;
-    }
+}
+
+// A new substrate resets the body; the old substrate, surface and velocities are kept in the
+// scratch buffers (the force buffer is recomputed anyway) until the new state is known finite.
+template <class Fill>
+void Simulation::change_substrate(Fill &&fill) {
+    change(
+        "this substrate",
+        [&] {
+            std::copy(h_.data(), h_.data() + n_, saved_z_.data());
+            std::copy(z_.data(), z_.data() + n_, saved_v_.data());
+            std::copy(v_.data(), v_.data() + n_, f_.data());
+            fill();
+            const double top = *std::max_element(h_.data(), h_.data() + n_);
+            std::fill(z_.data(), z_.data() + n_, top);
+            std::fill(v_.data(), v_.data() + n_, 0.0);
+        },
+        [&] {
+            std::copy(saved_z_.data(), saved_z_.data() + n_, h_.data());
+            std::copy(saved_v_.data(), saved_v_.data() + n_, z_.data());
+            std::copy(f_.data(), f_.data() + n_, v_.data());
+        });
 }
 
 void Simulation::set_heights(const double *h) {
@@ -194,21 +244,19 @@ void Simulation::set_heights(const double *h) {
         if (!std::isfinite(h[i]) || std::fabs(h[i]) > kMaxHeight)
             fail(GFMD_ERR_INVALID_ARG, "height " + std::to_string(i) + " = " + num(h[i]) +
                                            " is not finite or exceeds 1e100 in magnitude");
-    std::copy(h, h + n_, h_.data());
-    reset();
+    change_substrate([&] { std::copy(h, h + n_, h_.data()); });
 }
 
 void Simulation::generate_selfaffine(const SelfAffineParams &p) {
     validate_selfaffine(grid_, p);  // before h_ is overwritten
-    gfmd::generate_selfaffine(grid_, p, work_.data(), h_.data());
-    reset();
+    change_substrate([&] { gfmd::generate_selfaffine(grid_, p, work_.data(), h_.data()); });
 }
 
 void Simulation::set_pressure(double sigma0) {
     require_finite(sigma0, "sigma0");
     if (sigma0 < 0.0) fail(GFMD_ERR_INVALID_ARG, "sigma0 must be >= 0, got " + num(sigma0));
-    sigma0_ = sigma0;
-    evaluate_forces();
+    const double old = sigma0_;
+    change("sigma0", [&] { sigma0_ = sigma0; }, [&] { sigma0_ = old; });
 }
 
 void Simulation::set_adhesion(double gamma0, double rho) {
@@ -219,10 +267,19 @@ void Simulation::set_adhesion(double gamma0, double rho) {
     const double k_adh = gamma0 / (rho * rho);
     if (!std::isfinite(k_adh) || !std::isfinite(gamma0 / rho))
         fail(GFMD_ERR_RANGE, "the adhesive stiffness gamma0/rho^2 overflows");
-    gamma0_ = gamma0;
-    rho_ = rho;
-    update_dynamics();
-    evaluate_forces();
+    const double old_gamma0 = gamma0_, old_rho = rho_;
+    change(
+        "this adhesion",
+        [&] {
+            gamma0_ = gamma0;
+            rho_ = rho;
+            update_dynamics();
+        },
+        [&] {
+            gamma0_ = old_gamma0;
+            rho_ = old_rho;
+            update_dynamics();
+        });
 }
 
 void Simulation::set_timestep(double dt) {
@@ -306,10 +363,13 @@ void Simulation::evaluate_forces() {
     // sums FIRE needs (power F.v, |F|^2, |v|^2 of the projected force F).
     const bool adhesive = gamma0_ > 0.0;
     const double adh_coef = adhesive ? gamma0_ / rho_ : 0.0, inv_rho = 1.0 / rho_, sigma0 = sigma0_;
+    double ref = sigma0_ + adh_coef;
+    if (ref <= 0.0) ref = e_star_;
+    const double inv_ref = 1.0 / ref;
     double *f = f_.data();
     const double *z = z_.data(), *h = h_.data(), *v = v_.data();
-    const auto sums = parallel_sums<4>(threads_, n_, kBlock, sums_.data(), [&](int64_t i0, int64_t i1, double *acc) {
-        double adh_sum = 0.0, res2 = 0.0, power = 0.0, v2 = 0.0;
+    const auto sums = parallel_sums<5>(threads_, n_, kBlock, sums_.data(), [&](int64_t i0, int64_t i1, double *acc) {
+        double adh_sum = 0.0, res2 = 0.0, power = 0.0, v2 = 0.0, rel2 = 0.0;
         for (int64_t i = i0; i < i1; ++i) {
             const double g = z[i] - h[i];
             double fi = f[i] - sigma0;
@@ -321,6 +381,7 @@ void Simulation::evaluate_forces() {
             f[i] = fi;
             const double r = (g <= 0.0) ? std::max(fi, 0.0) : fi;  // in contact only pulling away counts
             res2 += r * r;
+            rel2 += (r * inv_ref) * (r * inv_ref);  // the residual, scaled first: no overflow
             power += r * v[i];
             v2 += v[i] * v[i];
         }
@@ -328,14 +389,13 @@ void Simulation::evaluate_forces() {
         acc[1] += res2;
         acc[2] += power;
         acc[3] += v2;
+        acc[4] += rel2;
     });
     u_ad_ = gamma0_ * area_per_point_ * sums[0];
     f_norm2_ = sums[1];
     power_ = sums[2];
     v_norm2_ = sums[3];
-    double ref = sigma0_ + adh_coef;
-    if (ref <= 0.0) ref = e_star_;
-    residual_ = std::sqrt(f_norm2_ * inv_n) / ref;
+    residual_ = std::sqrt(sums[4] * inv_n);
 }
 
 void Simulation::advance() {

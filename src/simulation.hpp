@@ -75,6 +75,11 @@ private:
     void advance_verlet();
     void advance_fire();
     void restart_fire();
+    template <class Apply, class Undo>
+    void change(const char *what, Apply &&apply, Undo &&undo);
+    void change_body(const char *what, int32_t kind, double width, double e_star, double nu);
+    template <class Fill>
+    void change_substrate(Fill &&fill);
     void save_state();
     void restore_state();
     [[noreturn]] void diverged(int64_t step);

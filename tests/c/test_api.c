@@ -171,6 +171,8 @@ static void bad_parameters(void **state) {
         EXPECT(s, gfmd_set_damping(s, bad[i]), GFMD_ERR_INVALID_ARG);
     }
     EXPECT(s, gfmd_set_modulus(s, 0.0), GFMD_ERR_INVALID_ARG);
+    /* valid alone, but the elastic energy of this surface would overflow: refused, undone */
+    EXPECT(s, gfmd_set_modulus(s, 1e307), GFMD_ERR_RANGE);
     EXPECT(s, gfmd_set_modulus(s, -1.0), GFMD_ERR_INVALID_ARG);
     EXPECT(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 0.0), GFMD_ERR_INVALID_ARG);
     EXPECT(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, -2.0), GFMD_ERR_INVALID_ARG);

@@ -120,6 +120,8 @@ static void bad_arguments(void **state) {
     assert_int_equal(gfmd_green_factor(GFMD_GREEN_LAYER_FLUID, NAN, 0.0, &f), GFMD_ERR_INVALID_ARG);
     assert_int_equal(gfmd_green_factor(GFMD_GREEN_LAYER_FLUID, INFINITY, 0.0, &f), GFMD_ERR_INVALID_ARG);
     assert_int_equal(gfmd_green_factor(GFMD_GREEN_LAYER_FLUID, 1e-120, 0.0, &f), GFMD_ERR_RANGE);
+    /* an incompressible bonded layer: f_b ~ (2/3) t^3 underflows to 0 (found by the fuzzer) */
+    assert_int_equal(gfmd_green_factor(GFMD_GREEN_LAYER_BONDED, 1e-257, 0.5, &f), GFMD_ERR_RANGE);
     assert_int_equal(gfmd_green_factor(GFMD_GREEN_LAYER_BONDED, 1.0, 0.7, &f), GFMD_ERR_INVALID_ARG);
     assert_int_equal(gfmd_green_factor(GFMD_GREEN_LAYER_BONDED, 1.0, NAN, &f), GFMD_ERR_INVALID_ARG);
     assert_int_equal(gfmd_green_factor(7, 1.0, 0.0, &f), GFMD_ERR_BAD_ENUM);
