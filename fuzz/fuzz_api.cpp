@@ -83,8 +83,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     gfmd_set_threads(s, 1);
     const int64_t n = nx * ny;
     std::vector<double> field(static_cast<size_t>(n));
+    const bool trace = std::getenv("FUZZ_TRACE") != nullptr;  // replaying a finding: show the calls
     for (int op = 0; op < 48 && !in.empty(); ++op) {
-        switch (in.u8() % 20) {
+        const int code = in.u8() % 20;
+        switch (code) {
             case 0: st = gfmd_set_modulus(s, in.f64()); break;
             case 1: {
                 const int32_t kind = static_cast<int32_t>(in.u8() % 5) - 1;
@@ -150,6 +152,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
                 break;
             }
             default: st = gfmd_set_threads(s, static_cast<int32_t>(in.u8() % 4) - 1); break;
+        }
+        if (trace) {
+            double r = 0;
+            gfmd_get_residual(s, &r);
+            std::fprintf(stderr, "op %d: call %d -> status %d, residual %g\n", op, code, st, r);
         }
         check_status(st);
         check_state(s, n);
