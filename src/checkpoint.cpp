@@ -196,14 +196,18 @@ std::unique_ptr<Simulation> Simulation::load(const char *path, bool (*fits)(int6
         !(lx <= kMaxLength) || !(ly >= kMinLength) || !(ly <= kMaxLength))
         fail(GFMD_ERR_FORMAT, "'" + p + "' has an impossible grid: corrupted");
     if (!fits(nx, ny)) fail(GFMD_ERR_NOMEM, "the grid of '" + p + "' does not fit in physical memory");
-    auto s = std::make_unique<Simulation>(nx, ny, lx, ly);
     const double e_star = r.f64();
     const int32_t kind = r.i32();
     const double width = r.f64(), nu = r.f64(), sigma0 = r.f64(), gamma0 = r.f64(), rho = r.f64();
     const double dt_user = r.f64(), eta_user = r.f64();
-    const int32_t solver = r.i32(), threads = r.i32(), planner = r.i32();
+    const int32_t solver = r.i32();
+    r.i32();  // threads: recorded for information; the loading process keeps its own default
+    const int32_t planner = r.i32();
     const double fire_dt = r.f64(), fire_alpha = r.f64();
     const int64_t fire_positive = r.i64();
+    if (planner != GFMD_PLANNER_ESTIMATE && planner != GFMD_PLANNER_MEASURE && planner != GFMD_PLANNER_PATIENT)
+        fail(GFMD_ERR_FORMAT, "'" + p + "' holds an unknown FFT planner");
+    auto s = std::unique_ptr<Simulation>(new Simulation(nx, ny, lx, ly, 0, planner));
     r.array(s->h_.data(), s->n_);
     r.array(s->z_.data(), s->n_);
     r.array(s->v_.data(), s->n_);
@@ -214,21 +218,24 @@ std::unique_ptr<Simulation> Simulation::load(const char *path, bool (*fits)(int6
     if (std::fread(&extra, 1, 1, file.f) != 0) fail(GFMD_ERR_FORMAT, "'" + p + "' has data after its end");
 
     // The checksum guards against damage; the setters also check every value, as for a user's
-    // call, so that even a forged file cannot put the simulation in an invalid state.
+    // call, so that even a forged file cannot put the simulation in an invalid state.  What they
+    // refuse is a property of the file: GFMD_ERR_FORMAT.
     for (int64_t i = 0; i < s->n_; ++i)
         if (!std::isfinite(s->h_[i]) || std::fabs(s->h_[i]) > kMaxHeight || !std::isfinite(s->z_[i]) ||
             !std::isfinite(s->v_[i]) || s->z_[i] < s->h_[i])
             fail(GFMD_ERR_FORMAT, "'" + p + "' holds invalid fields");
-    if (!std::isnan(nu)) s->set_poisson(nu);
-    s->set_modulus(e_star);
-    s->set_green(kind, width);
-    s->set_adhesion(gamma0, rho);
-    s->set_pressure(sigma0);
-    s->set_timestep(dt_user);
-    s->set_damping(eta_user);
-    s->set_solver(solver);
-    (void)threads;  // recorded for information: the loading process keeps its own thread default
-    if (planner != s->planner_) s->set_planner(planner);
+    try {
+        if (!std::isnan(nu)) s->set_poisson(nu);
+        s->set_modulus(e_star);
+        s->set_green(kind, width);
+        s->set_adhesion(gamma0, rho);
+        s->set_pressure(sigma0);
+        s->set_timestep(dt_user);
+        s->set_damping(eta_user);
+        s->set_solver(solver);
+    } catch (const Error &e) {
+        fail(GFMD_ERR_FORMAT, "'" + p + "' holds invalid parameters: " + e.what());
+    }
     if (!(fire_dt >= 0.0) || !(fire_alpha >= 0.0) || fire_positive < 0)
         fail(GFMD_ERR_FORMAT, "'" + p + "' holds an invalid solver state");
     s->fire_dt_ = fire_dt;

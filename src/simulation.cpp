@@ -1,10 +1,10 @@
 #include "simulation.hpp"
 
 #include <algorithm>
+#include <omp.h>
+
 #include <cmath>
 #include <cstdio>
-
-#include <omp.h>
 #include <limits>
 #include <string>
 #include <utility>
@@ -43,19 +43,21 @@ void require_finite(double x, const char *name) {
     if (!std::isfinite(x)) fail(GFMD_ERR_INVALID_ARG, std::string(name) + " must be finite, got " + num(x));
 }
 
-}  // namespace
-
-namespace {
 // "All cores": the machine's cores, unless the user limited OpenMP (OMP_NUM_THREADS), e.g. to
 // run one process per core.
 int all_cores() {
     const int n = omp_get_max_threads();
     return n > 0 ? n : 1;
 }
+
 }  // namespace
 
 Simulation::Simulation(int64_t nx, int64_t ny, double lx, double ly)
-    : threads_(all_cores()),
+    : Simulation(nx, ny, lx, ly, 0, GFMD_PLANNER_MEASURE) {}
+
+Simulation::Simulation(int64_t nx, int64_t ny, double lx, double ly, int threads, int32_t planner)
+    : threads_(threads > 0 ? threads : all_cores()),
+      planner_(planner),
       grid_(nx, ny, lx, ly, threads_, planner_),
       n_(nx * ny),
       rows_per_block_(std::max<int64_t>(1, kBlock / (nx / 2 + 1))),
@@ -74,12 +76,9 @@ Simulation::Simulation(int64_t nx, int64_t ny, double lx, double ly)
 }
 
 std::unique_ptr<Simulation> Simulation::clone() const {
-    auto c = std::make_unique<Simulation>(grid_.nx(), grid_.ny(), grid_.lx(), grid_.ly());
-    if (c->threads_ != threads_ || c->planner_ != planner_) {
-        c->grid_.replan(threads_, planner_);
-        c->threads_ = threads_;
-        c->planner_ = planner_;
-    }
+    // planned once, with this handle's threads and planner
+    auto c = std::unique_ptr<Simulation>(
+        new Simulation(grid_.nx(), grid_.ny(), grid_.lx(), grid_.ly(), threads_, planner_));
     auto copy = [](const RealBuffer &from, RealBuffer &to) { std::copy(from.data(), from.data() + from.size(), to.data()); };
     c->e_star_ = e_star_;
     c->kind_ = kind_;
@@ -142,9 +141,14 @@ void Simulation::adopt_stiffness(RealBuffer &&k) {
     update_dynamics();
 }
 
+double Simulation::adhesive_stiffness() const { return (gamma0_ > 0.0) ? gamma0_ / (rho_ * rho_) : 0.0; }
+
+bool Simulation::state_finite() const {
+    return std::isfinite(u_el_) && std::isfinite(u_ad_) && std::isfinite(residual_);
+}
+
 void Simulation::update_dynamics() {
-    const double k_adh = (gamma0_ > 0.0) ? gamma0_ / (rho_ * rho_) : 0.0;
-    dt_ = (dt_user_ > 0.0) ? dt_user_ : kDtFactor / std::sqrt(k_max_ + k_adh);
+    dt_ = (dt_user_ > 0.0) ? dt_user_ : kDtFactor / std::sqrt(k_max_ + adhesive_stiffness());
     eta_ = (eta_user_ > 0.0) ? eta_user_ : 2.0 * kZeta * std::sqrt(k_min_);
     restart_fire();
 }
@@ -156,7 +160,7 @@ template <class Apply, class Undo>
 void Simulation::change(const char *what, Apply &&apply, Undo &&undo) {
     apply();
     evaluate_forces();
-    if (std::isfinite(u_el_) && std::isfinite(u_ad_) && !std::isnan(residual_)) return;
+    if (state_finite()) return;
     undo();
     evaluate_forces();
     fail(GFMD_ERR_RANGE, std::string(what) + " would make the forces or energies overflow double precision; "
@@ -500,9 +504,8 @@ void Simulation::restore_state() {
 
 void Simulation::diverged(int64_t step) {
     restore_state();
-    const double k_adh = (gamma0_ > 0.0) ? gamma0_ / (rho_ * rho_) : 0.0;
     fail(GFMD_ERR_DIVERGED, "a non-finite value appeared at step " + std::to_string(step) + " (dt = " + num(dt_) +
-                                ", stability limit 2/omega_max = " + num(2.0 / std::sqrt(k_max_ + k_adh)) +
+                                ", stability limit 2/omega_max = " + num(2.0 / std::sqrt(k_max_ + adhesive_stiffness())) +
                                 "); the state before the call was restored");
 }
 
@@ -510,7 +513,7 @@ void Simulation::step(int64_t nsteps) {
     save_state();
     for (int64_t s = 0; s < nsteps; ++s) {
         advance();
-        if (!std::isfinite(residual_) || !std::isfinite(u_el_)) diverged(s + 1);
+        if (!state_finite()) diverged(s + 1);
     }
 }
 
@@ -522,7 +525,7 @@ bool Simulation::relax(double tol, int64_t max_steps, int64_t &steps_taken) {
         if (steps_taken == max_steps) return false;
         advance();
         ++steps_taken;
-        if (!std::isfinite(residual_) || !std::isfinite(u_el_)) diverged(steps_taken);
+        if (!state_finite()) diverged(steps_taken);
     }
     return true;
 }

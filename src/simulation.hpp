@@ -69,6 +69,10 @@ private:
     // Stiffness 1/G(q) on the Hermitian half-spectrum for a candidate body; throws on overflow.
     RealBuffer stiffness_for(int32_t kind, double width, double e_star, double nu) const;
     void adopt_stiffness(RealBuffer &&k);  // commit and update the automatic dynamics
+    // threads 0 = all cores; used by clone() and load() to plan once with the right settings.
+    Simulation(int64_t nx, int64_t ny, double lx, double ly, int threads, int32_t planner);
+    double adhesive_stiffness() const;  // gamma0/rho^2, the stiffest point of the adhesive law
+    bool state_finite() const;          // forces, energies and residual all finite
     void update_dynamics();
     void evaluate_forces();  // forces, energies and residual of the current z
     void advance();          // one step of the chosen solver followed by evaluate_forces()
