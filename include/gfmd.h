@@ -299,6 +299,39 @@ GFMD_API int32_t gfmd_get_surface(const gfmd_sim *s, double *z);
  */
 GFMD_API int32_t gfmd_get_pressure(const gfmd_sim *s, double *p);
 
+/* ---------------------------------------------------------------- theory and analysis */
+
+/**
+ * Persson's contact mechanics theory (non-adhesive) for this handle's substrate and body: the
+ * variance V of the pressure the body would carry in full contact,
+ * V = sum over q != 0 of |h(q)|^2 / G(q)^2 (full plane, h(q) the Fourier coefficients normalized so
+ * that sum_q |h(q)|^2 = <h^2>), with the handle's G(q) (half-space or layer).  For a half-space,
+ * V = (E* g / 2)^2 with g the rms gradient.  Does not change the handle.
+ * @return GFMD_ERR_RANGE if V overflows double precision.
+ */
+GFMD_API int32_t gfmd_persson_variance(const gfmd_sim *s, double *variance);
+
+/**
+ * Persson's relative contact area at external pressure @p sigma0 (not the handle's own load, so a
+ * whole theory curve can be drawn without touching the simulation):
+ * A/A0 = erf(sigma0 / sqrt(2 V)), V from gfmd_persson_variance(); 1 for a flat substrate (V = 0)
+ * under a positive load.  Small loads give A/A0 = sqrt(8/pi) sigma0/(E* g) for the half-space.
+ * @param sigma0 finite and >= 0.
+ */
+GFMD_API int32_t gfmd_persson_contact_area(const gfmd_sim *s, double sigma0, double *rel_area);
+
+/**
+ * Linear least squares: the x (n values) minimizing ||A x - b||_2 for an m x n matrix A of full
+ * column rank, m >= n >= 1, solved by QR (LAPACKE_dgels).  @p a is column major (element (i, j) at
+ * a[i + j*m]) and, like @p b, is not modified.  Fits of a line or a power law are one column of
+ * ones and one of x (or ln x) values.
+ * @param rss receives the residual sum of squares ||A x - b||^2 (may be NULL).
+ * @return GFMD_ERR_NULL for a NULL a, b or x; GFMD_ERR_INVALID_ARG if m < n, n < 1, m beyond
+ *         LAPACK's 32-bit index, an entry is NaN or infinite, or A is rank deficient (x unchanged
+ *         then); GFMD_ERR_NOMEM if the work copies cannot be allocated.
+ */
+GFMD_API int32_t gfmd_least_squares(int64_t m, int64_t n, const double *a, const double *b, double *x, double *rss);
+
 #ifdef __cplusplus
 }
 #endif

@@ -12,6 +12,7 @@
 #include "error.hpp"
 #include "gfmd.h"
 #include "green.hpp"
+#include "least_squares.hpp"
 #include "simulation.hpp"
 
 struct gfmd_sim {
@@ -363,6 +364,41 @@ int32_t gfmd_get_pressure(const gfmd_sim *s, double *p) {
         need(p, "p");
         m.pressure(p);
     });
+}
+
+int32_t gfmd_persson_variance(const gfmd_sim *s, double *variance) {
+    return guarded(s, [&](const gfmd::Simulation &m) {
+        need(variance, "variance");
+        *variance = m.persson_variance();
+    });
+}
+
+int32_t gfmd_persson_contact_area(const gfmd_sim *s, double sigma0, double *rel_area) {
+    return guarded(s, [&](const gfmd::Simulation &m) {
+        need(rel_area, "rel_area");
+        if (!std::isfinite(sigma0) || sigma0 < 0.0)
+            fail(GFMD_ERR_INVALID_ARG, "sigma0 must be finite and >= 0, got " + std::to_string(sigma0));
+        const double v = m.persson_variance();
+        if (v > 0.0)
+            *rel_area = std::erf(sigma0 / std::sqrt(2.0 * v));
+        else
+            *rel_area = (sigma0 > 0.0) ? 1.0 : 0.0;  // flat substrate: full contact under any load
+    });
+}
+
+int32_t gfmd_least_squares(int64_t m, int64_t n, const double *a, const double *b, double *x, double *rss) {
+    if (a == nullptr || b == nullptr || x == nullptr) return GFMD_ERR_NULL;
+    try {
+        const double r = gfmd::least_squares(m, n, a, b, x);
+        if (rss != nullptr) *rss = r;
+        return GFMD_OK;
+    } catch (const gfmd::Error &e) {
+        return e.status();
+    } catch (const std::bad_alloc &) {
+        return GFMD_ERR_NOMEM;
+    } catch (...) {
+        return GFMD_ERR_INTERNAL;
+    }
 }
 
 }  // extern "C"

@@ -569,4 +569,24 @@ void Simulation::pressure(double *out) const {
     }
 }
 
+double Simulation::persson_variance() const {
+    // In full contact the surface follows the substrate, so the stress modes are sigma(q) =
+    // h(q)/G(q) with h(q) the normalized Fourier coefficients; their variance (q != 0, full plane,
+    // Parseval) is the width of Persson's pressure distribution at full magnification.
+    ComplexBuffer hq(static_cast<std::size_t>(grid_.complex_size()));  // not the solver's scratch
+    grid_.forward(h_.data(), hq.data());
+    const int64_t nxh = grid_.nxh();
+    const double inv_n = 1.0 / static_cast<double>(n_);
+    double v = 0.0;
+    for (int64_t ky = 0; ky < grid_.ny(); ++ky)
+        for (int64_t kx = 0; kx < nxh; ++kx) {
+            const std::size_t c = static_cast<std::size_t>(ky * nxh + kx);
+            const double s = stiff_[c] * (std::abs(hq[c]) * inv_n);  // scaled first: no overflow
+            v += grid_.weight(kx) * s * s;
+        }
+    if (!std::isfinite(v))
+        fail(GFMD_ERR_RANGE, "the full-contact pressure variance overflows double precision");
+    return v;
+}
+
 }  // namespace gfmd

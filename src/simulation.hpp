@@ -65,6 +65,10 @@ public:
     void surface(double *out) const;
     void pressure(double *out) const;
 
+    // Persson's theory (non-adhesive): the variance of the contact pressure the body would carry
+    // in full contact, sum over q != 0 of (|h(q)| / G(q))^2 with this handle's substrate and body.
+    double persson_variance() const;
+
 private:
     // Stiffness 1/G(q) on the Hermitian half-spectrum for a candidate body; throws on overflow.
     RealBuffer stiffness_for(int32_t kind, double width, double e_star, double nu) const;
