@@ -21,7 +21,7 @@ module gfmd
   integer, parameter, public :: dp = c_double
   include 'gfmd_constants.inc'
 
-  public :: gfmd_sim_t, gfmd_version, gfmd_status_string, gfmd_green_factor
+  public :: gfmd_sim_t, gfmd_version, gfmd_status_string, gfmd_green_factor, gfmd_least_squares
   public :: gfmd_import_wisdom, gfmd_export_wisdom
 
   !> A simulation: owns one C handle.
@@ -61,6 +61,8 @@ module gfmd
     procedure :: get_gap => sim_get_gap
     procedure :: get_surface => sim_get_surface
     procedure :: get_pressure => sim_get_pressure
+    procedure :: persson_variance => sim_persson_variance
+    procedure :: persson_contact_area => sim_persson_contact_area
     procedure :: last_error => sim_last_error
     procedure, private :: sim_assign
     generic :: assignment(=) => sim_assign
@@ -191,6 +193,33 @@ contains
     f = ff
     call finish(c_null_ptr, st, 'green_factor', stat, errmsg, '')
   end subroutine gfmd_green_factor
+
+  !> Linear least squares (LAPACKE_dgels): x minimizing ||a x - b|| for an m x n matrix a of full
+  !! column rank, m >= n >= 1 (a Fortran array is already the column-major layout the C API
+  !! takes).  size(b) must be m and size(x) n; rss receives the residual sum of squares.
+  subroutine gfmd_least_squares(a, b, x, rss, stat, errmsg)
+    real(dp), intent(in), contiguous :: a(:, :)
+    real(dp), intent(in), contiguous :: b(:)
+    real(dp), intent(inout) :: x(:)
+    real(dp), intent(out), optional :: rss
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    real(c_double) :: r, xx(max(1, size(x)))
+    integer(c_int32_t) :: st
+    r = 0.0_dp
+    if (size(b) /= size(a, 1) .or. size(x) /= size(a, 2)) then
+      call finish(c_null_ptr, GFMD_ERR_INVALID_ARG, 'least_squares', stat, errmsg, &
+                  'size(b) must equal size(a, 1) and size(x) size(a, 2)')
+      return
+    end if
+    xx = 0.0_dp
+    st = c_gfmd_least_squares(int(size(a, 1), c_int64_t), int(size(a, 2), c_int64_t), a, b, xx, r)
+    if (st == GFMD_OK) then
+      x = xx(1:size(x))
+      if (present(rss)) rss = r
+    end if
+    call finish(c_null_ptr, st, 'least_squares', stat, errmsg, '')
+  end subroutine gfmd_least_squares
 
   !> A Fortran string as a NUL-terminated C string.
   function c_path(path) result(c)
@@ -545,6 +574,26 @@ contains
     character(*), intent(out), optional :: errmsg
     call finish(self%ptr, c_gfmd_get_contact_area(self%ptr, rel_area), 'get_contact_area', stat, errmsg)
   end subroutine sim_get_contact_area
+
+  !> Persson's full-contact pressure variance V with this handle's substrate and body.
+  subroutine sim_persson_variance(self, variance, stat, errmsg)
+    class(gfmd_sim_t), intent(in) :: self
+    real(dp), intent(out) :: variance
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    call finish(self%ptr, c_gfmd_persson_variance(self%ptr, variance), 'persson_variance', stat, errmsg)
+  end subroutine sim_persson_variance
+
+  !> Persson's A/A0 = erf(sigma0/sqrt(2 V)) at the load sigma0 (not the handle's own).
+  subroutine sim_persson_contact_area(self, sigma0, rel_area, stat, errmsg)
+    class(gfmd_sim_t), intent(in) :: self
+    real(dp), intent(in) :: sigma0
+    real(dp), intent(out) :: rel_area
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    call finish(self%ptr, c_gfmd_persson_contact_area(self%ptr, sigma0, rel_area), 'persson_contact_area', &
+                stat, errmsg)
+  end subroutine sim_persson_contact_area
 
   subroutine sim_get_mean_gap(self, mean_gap, stat, errmsg)
     class(gfmd_sim_t), intent(in) :: self

@@ -14,6 +14,7 @@ module gfmd_c_api
   public :: c_gfmd_get_gap, c_gfmd_get_surface, c_gfmd_get_pressure, c_strlen
   public :: c_gfmd_sim_save, c_gfmd_sim_load, c_gfmd_set_threads, c_gfmd_get_threads
   public :: c_gfmd_set_fft_planner, c_gfmd_import_wisdom, c_gfmd_export_wisdom
+  public :: c_gfmd_persson_variance, c_gfmd_persson_contact_area, c_gfmd_least_squares
 
   interface
     ! const char *gfmd_version(void);
@@ -330,6 +331,34 @@ module gfmd_c_api
       import :: c_ptr, c_size_t
       type(c_ptr), value :: s
       integer(c_size_t) :: r
+    end function
+
+    ! int32_t gfmd_persson_variance(const gfmd_sim *s, double *variance);
+    function c_gfmd_persson_variance(s, variance) bind(C, name="gfmd_persson_variance") result(r)
+      import :: c_ptr, c_int32_t, c_double
+      type(c_ptr), value :: s
+      real(c_double), intent(out) :: variance
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_persson_contact_area(const gfmd_sim *s, double sigma0, double *rel_area);
+    function c_gfmd_persson_contact_area(s, sigma0, rel_area) bind(C, name="gfmd_persson_contact_area") result(r)
+      import :: c_ptr, c_int32_t, c_double
+      type(c_ptr), value :: s
+      real(c_double), value :: sigma0
+      real(c_double), intent(out) :: rel_area
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_least_squares(int64_t m, int64_t n, const double *a, const double *b, double *x,
+    !                            double *rss);
+    function c_gfmd_least_squares(m, n, a, b, x, rss) bind(C, name="gfmd_least_squares") result(r)
+      import :: c_int32_t, c_int64_t, c_double
+      integer(c_int64_t), value :: m, n
+      real(c_double), intent(in) :: a(*), b(*)
+      real(c_double), intent(out) :: x(*)
+      real(c_double), intent(out) :: rss
+      integer(c_int32_t) :: r
     end function
   end interface
 end module gfmd_c_api

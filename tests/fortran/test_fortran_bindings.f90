@@ -16,6 +16,7 @@ program test_fortran_bindings
   call destroy_twice()
   call assignment_copies()
   call checkpoint_restart()
+  call theory_and_fits()
 
   print '(i0, " passed, ", i0, " failed")', passed, failed
   if (failed > 0) error stop 1
@@ -252,4 +253,35 @@ contains
     close (u, status='delete')
   end subroutine checkpoint_restart
 
+  !> Persson's theory and the least-squares fit through the module: the half-space variance is
+  !> (E* g/2)^2 (exact for the generator's spectral gradient; 1e-12 for the sums' rounding) and a
+  !> Fortran (column-major) matrix fits a known line exactly; bad shapes come back as stat.
+  subroutine theory_and_fits()
+    type(gfmd_sim_t) :: sim
+    real(dp) :: v, area, a(5, 2), b(5), x(2), rss, x3(3)
+    integer :: st, i
+    character(200) :: msg
+    call sim%create(64, 64, 64.0_dp, 64.0_dp)
+    call sim%generate_selfaffine(0.8_dp, 16.0_dp, 4.0_dp, 1.0_dp, 3)
+    call sim%persson_variance(v)
+    call check(abs(v - 0.25_dp) < 1e-12_dp, 'Persson variance of a half-space = (E* g/2)^2')
+    call sim%persson_contact_area(0.1_dp, area)
+    call check(abs(area - erf(0.1_dp / sqrt(0.5_dp))) < 1e-14_dp, 'Persson area = erf(sigma0/sqrt(2V))')
+    call sim%persson_contact_area(-1.0_dp, area, stat=st, errmsg=msg)
+    call check(st == GFMD_ERR_INVALID_ARG .and. index(msg, 'sigma0') > 0, 'negative load refused with a message')
+    do i = 1, 5
+      a(i, 1) = 1.0_dp
+      a(i, 2) = real(i, dp)
+      b(i) = 2.0_dp - 0.5_dp * real(i, dp)
+    end do
+    call gfmd_least_squares(a, b, x, rss)
+    call check(abs(x(1) - 2.0_dp) < 1e-13_dp .and. abs(x(2) + 0.5_dp) < 1e-13_dp .and. rss < 1e-26_dp, &
+               'least squares recovers the line 2 - x/2')
+    x3 = 7.0_dp
+    call gfmd_least_squares(a, b, x3, stat=st, errmsg=msg)
+    call check(st == GFMD_ERR_INVALID_ARG .and. all(x3 == 7.0_dp), 'wrong size of x refused, x unchanged')
+    a(:, 2) = 3.0_dp * a(:, 1)
+    call gfmd_least_squares(a, b, x, stat=st)
+    call check(st == GFMD_ERR_INVALID_ARG, 'rank-deficient matrix refused')
+  end subroutine theory_and_fits
 end program test_fortran_bindings

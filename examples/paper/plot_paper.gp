@@ -1,0 +1,73 @@
+# Plots the tables of gfmd_paper (reads the CSVs only; computing is separate):
+#   gnuplot -e "dir='paper'" examples/paper/plot_paper.gp     -> dir/fig3.png ... dir/fig7.png
+if (!exists("dir")) dir = '.'
+if (!exists("widths")) widths = "0 100 10 4 2 1 0.5 0.25 0.177 0.125 0.088 0.0625 0.044"
+set terminal pngcairo size 900,650 font ",11"
+set datafile separator ","
+set grid
+set key outside right top
+name(w) = (w eq "0") ? "half-space" : sprintf("W = %s", w)
+sel(w, col) = (strcol(2) eq w) ? column(col) : NaN
+f3 = dir.'/fig3_area.csv'
+
+# Fig. 3: A/A0 against sigma0/(E* g), GFMD points, Persson's theory dashed
+set output dir.'/fig3.png'
+set title "Relative contact area (GFMD points, Persson's theory dashed)"
+set logscale xy
+set format x "10^{%L}"
+set format y "10^{%L}"
+set xlabel "sigma_0 / (E* g)"
+set ylabel "A / A_0"
+plot for [i=1:words(widths)] f3 using (sel(word(widths,i),4)):(sel(word(widths,i),5)) \
+       with linespoints pt (i % 7 + 4) ps 0.8 lc i title name(word(widths,i)), \
+     for [i=1:words(widths)] dir.'/persson_curves.csv' using (sel(word(widths,i),3)):(sel(word(widths,i),4)) \
+       with lines dt 2 lc i notitle
+
+# Fig. 4: A (A0 - A) / A0^2 against the load
+set output dir.'/fig4.png'
+set title "A(A_0 - A)/A_0^2 against the load"
+set ylabel "A (A_0 - A) / A_0^2"
+plot for [i=1:words(widths)] dir.'/fig4_area_complement.csv' using (sel(word(widths,i),3)):(sel(word(widths,i),5)) \
+       with linespoints pt (i % 7 + 4) ps 0.8 lc i title name(word(widths,i))
+
+# Fig. 5a: the collapse, load multiplied by c(W)
+set output dir.'/fig5a.png'
+set title "Collapse: A/A_0 against c(W) sigma_0/(E* g)"
+set xlabel "c(W) sigma_0 / (E* g)"
+set ylabel "A / A_0"
+plot for [i=1:words(widths)] dir.'/fig5a_collapse.csv' using (sel(word(widths,i),4)):(sel(word(widths,i),5)) \
+       with points pt (i % 7 + 4) ps 0.8 lc i title name(word(widths,i))
+
+# Fig. 5b: c(W) and the small-W power law
+set output dir.'/fig5b.png'
+set title "Correction factor c(W) (line: least-squares power law at small W)"
+set xlabel "W = w / lambda_s"
+set ylabel "c(W)"
+set key inside right top
+plot dir.'/fig5b_cW.csv' using 1:2 with points pt 7 ps 1.2 title "c(W) from the collapse", \
+     dir.'/fig5b_cW.csv' using 1:3 with lines lw 2 title "fit c ~ W^{alpha}"
+
+# Fig. 6: normalized separation
+set output dir.'/fig6.png'
+set title "Normalized separation s = 1 - <u>/u_{max}"
+unset logscale y
+set format y "%g"
+set xlabel "sigma_0 / E*"
+set ylabel "s"
+set key outside right top
+plot for [i=1:words(widths)] dir.'/fig6_separation.csv' using (sel(word(widths,i),3)):(sel(word(widths,i),5)) \
+       with linespoints pt (i % 7 + 4) ps 0.8 lc i title name(word(widths,i))
+
+# Fig. 7: theta = U_el/U_ad at three contact areas
+set output dir.'/fig7.png'
+set title "Adhesion: theta = U_{el}/U_{ad} at fixed contact area"
+set logscale xy
+set xlabel "W = w / lambda_s"
+set ylabel "theta"
+set key inside left top
+f7 = dir.'/fig7_theta.csv'
+at(a, col) = (abs(column(2) - a) < 1e-9) ? column(col) : NaN
+plot f7 using (at(0.05,1)):(at(0.05,5)) with linespoints pt 7 title "A/A_0 = 0.05", \
+     f7 using (at(0.1,1)):(at(0.1,5)) with linespoints pt 5 title "A/A_0 = 0.1", \
+     f7 using (at(0.2,1)):(at(0.2,5)) with linespoints pt 9 title "A/A_0 = 0.2", \
+     [0.04:0.3] 400*x**3 with lines dt 2 lc "gray" title "slope 3"
