@@ -1,13 +1,19 @@
 #!/usr/bin/env bash
-# The newcomer's first command: install what is missing, build, run the demonstration, plot it.
-#   scripts/demo.sh [demo options, e.g. --n 512]
+# The newcomer's first command: install what is missing, build, run the seed paper's study
+# (Putignano, Dapp & Mueser 2016) at a size that takes a few minutes, print the fits and plot
+# every figure from the tables:
+#   scripts/demo.sh            256^2 grid, lambda_r = 32 lambda_s (a few minutes on 2 cores)
+#   scripts/demo.sh --full     the paper's 2048^2 grid, lambda_r = 64 lambda_s (hours)
+#   scripts/demo.sh [gfmd_paper options, e.g. --n 512 --bandwidth 32]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 "$root/scripts/setup.sh" gnuplot-nox
 cmake -S "$root" -B "$root/build" -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build "$root/build" -j "$(nproc)" --target gfmd_demo
-out="$root/build/demo"
+cmake --build "$root/build" -j "$(nproc)" --target gfmd_paper
+out="$root/build/paper"
 mkdir -p "$out"
-"$root/build/examples/gfmd_demo" --csv "$out/demo.csv" "$@"
-gnuplot -e "csv='$out/demo.csv'; out='$out/demo.png'" "$root/examples/plot_demo.gp"
-echo "plot: $out/demo.png"
+"$root/build/examples/gfmd_paper" --out "$out" "$@" | tee "$out/study.log"
+gnuplot -e "dir='$out'" "$root/examples/paper/plot_paper.gp"
+echo
+echo "tables: $out/*.csv"
+echo "plots:  $(cd "$out" && ls fig*.png | sed "s|^|$out/|" | tr '\n' ' ')"
