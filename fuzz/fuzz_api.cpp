@@ -2,6 +2,7 @@
 // denormals, huge, negative), height fields and call orders, and checks after every call that
 // the library answered with a known status and that the state it reports is sane.  Any crash,
 // sanitizer report, hang or broken invariant is a finding.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -64,6 +65,30 @@ void check_state(gfmd_sim *s, int64_t n) {
     if (gfmd_get_gap(s, g.data()) != GFMD_OK) finding();
     for (double x : g)
         if (!(x >= 0.0) || !std::isfinite(x)) finding();
+    // Persson's theory of any state: OK with a finite variance and an area in [0, 1], or RANGE.
+    double v = -1, pa = -1;
+    const int32_t sv = gfmd_persson_variance(s, &v);
+    if (sv == GFMD_OK ? !(v >= 0.0 && std::isfinite(v)) : sv != GFMD_ERR_RANGE) finding();
+    const int32_t sa = gfmd_persson_contact_area(s, 0.01, &pa);
+    if (sa == GFMD_OK ? !(pa >= 0.0 && pa <= 1.0) : sa != GFMD_ERR_RANGE) finding();
+}
+
+// Least squares on a matrix made from the input's remaining bytes: a known status, and on
+// success a finite solution and residual.
+void fuzz_least_squares(Input &in) {
+    const int64_t m = static_cast<int64_t>(in.u8() % 9) - 1, n = static_cast<int64_t>(in.u8() % 5) - 1;
+    std::vector<double> a(static_cast<size_t>(std::max<int64_t>(m * n, 1))), b(static_cast<size_t>(std::max<int64_t>(m, 1)));
+    for (auto &x : a) x = in.f64();
+    for (auto &x : b) x = in.f64();
+    std::vector<double> x(static_cast<size_t>(std::max<int64_t>(n, 1)), 0.0);
+    double rss = -1;
+    const int32_t st = gfmd_least_squares(m, n, a.data(), b.data(), x.data(), &rss);
+    check_status(st);
+    if (st == GFMD_OK) {
+        if (!(rss >= 0.0) || !std::isfinite(rss)) finding();
+        for (int64_t j = 0; j < n; ++j)
+            if (!std::isfinite(x[static_cast<size_t>(j)])) finding();
+    }
 }
 
 }  // namespace
@@ -163,5 +188,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     }
     gfmd_sim_destroy(&s);
     if (s != nullptr) finding();
+    if (!in.empty()) fuzz_least_squares(in);  // after the 48 operations: older inputs replay as before
     return 0;
 }
