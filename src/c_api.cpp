@@ -8,6 +8,7 @@
 #include <memory>
 #include <new>
 #include <string>
+#include <utility>
 
 #include "error.hpp"
 #include "gfmd.h"
@@ -32,27 +33,39 @@ void record(const gfmd_sim *s, const char *msg) noexcept {
     }
 }
 
+// Run f, turning every exception into its status; report(message) receives the message of a
+// failure (a handle's last error, a caller's buffer, or nothing for calls without either).
+template <class F, class Report>
+int32_t status_of(F &&f, Report &&report) noexcept {
+    try {
+        f();
+        return GFMD_OK;
+    } catch (const gfmd::Error &e) {
+        report(e.what());
+        return e.status();
+    } catch (const std::bad_alloc &) {
+        report("out of memory");
+        return GFMD_ERR_NOMEM;
+    } catch (const std::exception &e) {
+        report(e.what());
+        return GFMD_ERR_INTERNAL;
+    } catch (...) {
+        report("unknown internal error");
+        return GFMD_ERR_INTERNAL;
+    }
+}
+
+template <class F>
+int32_t status_of(F &&f) noexcept {
+    return status_of(std::forward<F>(f), [](const char *) {});
+}
+
 // Run f on a valid handle; translate exceptions.  The message of the last failure stays in the
 // handle until the next failure.
 template <class F>
 int32_t guarded(const gfmd_sim *s, F &&f) noexcept {
     if (s == nullptr || !s->sim) return GFMD_ERR_NULL;
-    try {
-        f(*s->sim);
-        return GFMD_OK;
-    } catch (const gfmd::Error &e) {
-        record(s, e.what());
-        return e.status();
-    } catch (const std::bad_alloc &) {
-        record(s, "out of memory");
-        return GFMD_ERR_NOMEM;
-    } catch (const std::exception &e) {
-        record(s, e.what());
-        return GFMD_ERR_INTERNAL;
-    } catch (...) {
-        record(s, "unknown internal error");
-        return GFMD_ERR_INTERNAL;
-    }
+    return status_of([&] { f(*s->sim); }, [s](const char *msg) { record(s, msg); });
 }
 
 template <class T>
@@ -113,18 +126,11 @@ int32_t gfmd_sim_create(int64_t nx, int64_t ny, double lx, double ly, gfmd_sim *
     if (!(lx >= gfmd::kMinLength && lx <= gfmd::kMaxLength && ly >= gfmd::kMinLength && ly <= gfmd::kMaxLength))
         return GFMD_ERR_INVALID_ARG;  // also catches NaN
     if (!fits_in_memory(nx, ny)) return GFMD_ERR_NOMEM;
-    try {
+    return status_of([&] {
         auto handle = std::make_unique<gfmd_sim>();
         handle->sim = std::make_unique<gfmd::Simulation>(nx, ny, lx, ly);
         *out = handle.release();
-        return GFMD_OK;
-    } catch (const gfmd::Error &e) {
-        return e.status();
-    } catch (const std::bad_alloc &) {
-        return GFMD_ERR_NOMEM;
-    } catch (...) {
-        return GFMD_ERR_INTERNAL;
-    }
+    });
 }
 
 int32_t gfmd_sim_clone(const gfmd_sim *s, gfmd_sim **out) {
@@ -161,24 +167,13 @@ int32_t gfmd_sim_load(const char *path, gfmd_sim **out, char *errbuf, int64_t er
         if (errbuf == nullptr || errlen <= 0) return;
         std::snprintf(errbuf, static_cast<std::size_t>(errlen), "%s", msg);
     };
-    try {
-        auto handle = std::make_unique<gfmd_sim>();
-        handle->sim = gfmd::Simulation::load(path, fits_in_memory);
-        *out = handle.release();
-        return GFMD_OK;
-    } catch (const gfmd::Error &e) {
-        report(e.what());
-        return e.status();
-    } catch (const std::bad_alloc &) {
-        report("out of memory");
-        return GFMD_ERR_NOMEM;
-    } catch (const std::exception &e) {
-        report(e.what());
-        return GFMD_ERR_INTERNAL;
-    } catch (...) {
-        report("unknown internal error");
-        return GFMD_ERR_INTERNAL;
-    }
+    return status_of(
+        [&] {
+            auto handle = std::make_unique<gfmd_sim>();
+            handle->sim = gfmd::Simulation::load(path, fits_in_memory);
+            *out = handle.release();
+        },
+        report);
 }
 
 int32_t gfmd_get_grid(const gfmd_sim *s, int64_t *nx, int64_t *ny, double *lx, double *ly) {
@@ -388,17 +383,10 @@ int32_t gfmd_persson_contact_area(const gfmd_sim *s, double sigma0, double *rel_
 
 int32_t gfmd_least_squares(int64_t m, int64_t n, const double *a, const double *b, double *x, double *rss) {
     if (a == nullptr || b == nullptr || x == nullptr) return GFMD_ERR_NULL;
-    try {
+    return status_of([&] {
         const double r = gfmd::least_squares(m, n, a, b, x);
         if (rss != nullptr) *rss = r;
-        return GFMD_OK;
-    } catch (const gfmd::Error &e) {
-        return e.status();
-    } catch (const std::bad_alloc &) {
-        return GFMD_ERR_NOMEM;
-    } catch (...) {
-        return GFMD_ERR_INTERNAL;
-    }
+    });
 }
 
 }  // extern "C"

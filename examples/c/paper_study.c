@@ -356,7 +356,7 @@ int main(int argc, char **argv) {
         FILE *f7 = open_csv(dir, "fig7_theta.csv", "W,target_area,u_el,u_ad,theta");
         /* common exponent: one intercept per area, one slope (columns: 3 indicators, ln W) */
         double ac[(N_TARGETS + 1) * MAX_BODIES * N_TARGETS], bc[MAX_BODIES * N_TARGETS];
-        int rows[MAX_BODIES * N_TARGETS], mc = 0;
+        int rows[MAX_BODIES * N_TARGETS] = {0}, mc = 0;
         double lw[MAX_BODIES * N_TARGETS];
         for (int t = 0; t < N_TARGETS; ++t) {
             double w[MAX_BODIES], th[MAX_BODIES];
