@@ -306,7 +306,9 @@ GFMD_API int32_t gfmd_get_pressure(const gfmd_sim *s, double *p);
  * variance V of the pressure the body would carry in full contact,
  * V = sum over q != 0 of |h(q)|^2 / G(q)^2 (full plane, h(q) the Fourier coefficients normalized so
  * that sum_q |h(q)|^2 = <h^2>), with the handle's G(q) (half-space or layer).  For a half-space,
- * V = (E* g / 2)^2 with g the rms gradient.  Does not change the handle.
+ * V = (E* g / 2)^2 with g the rms gradient.  Does not change the handle; each call transforms
+ * the substrate once (one FFT, one temporary half-spectrum), so for many loads take V once and
+ * evaluate erf yourself.
  * @return GFMD_ERR_RANGE if V overflows double precision.
  */
 GFMD_API int32_t gfmd_persson_variance(const gfmd_sim *s, double *variance);
