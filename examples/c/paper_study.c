@@ -19,6 +19,7 @@
 
 #include <errno.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -170,25 +171,15 @@ static void power_law(int m, const double *w, const double *y, double *x, const 
     fit(m, 2, a, b, x, what);
 }
 
-/* ln sigma on a monotone curve at ln A (linear interpolation in log-log); NAN outside. */
-static double log_load_at(const sweep *c, double area) {
+/* A positive field of the points (its offset in point), interpolated log-log along a sweep to a
+ * contact area; NAN outside the sweep. */
+static double at_area(const sweep *c, double area, size_t field) {
     for (int k = 0; k + 1 < c->n; ++k) {
         const double a0 = c->p[k].area, a1 = c->p[k + 1].area;
         if (a0 > 0.0 && area >= a0 && area <= a1 && a1 > a0) {
             const double t = (log(area) - log(a0)) / (log(a1) - log(a0));
-            return (1.0 - t) * log(c->p[k].sigma0) + t * log(c->p[k + 1].sigma0);
-        }
-    }
-    return NAN;
-}
-
-/* A quantity at a contact area, interpolated log-log along a sweep; NAN outside the sweep. */
-static double at_area(const sweep *c, double area, int which) {
-    for (int k = 0; k + 1 < c->n; ++k) {
-        const double a0 = c->p[k].area, a1 = c->p[k + 1].area;
-        if (a0 > 0.0 && area >= a0 && area <= a1 && a1 > a0) {
-            const double t = (log(area) - log(a0)) / (log(a1) - log(a0));
-            const double y0 = which ? c->p[k].u_ad : c->p[k].u_el, y1 = which ? c->p[k + 1].u_ad : c->p[k + 1].u_el;
+            const double y0 = *(const double *)((const char *)&c->p[k] + field);
+            const double y1 = *(const double *)((const char *)&c->p[k + 1] + field);
             return exp((1.0 - t) * log(y0) + t * log(y1));
         }
     }
@@ -314,7 +305,7 @@ int main(int argc, char **argv) {
         double ones[MAX_LOADS], shift[MAX_LOADS], lnc = 0.0;
         m = 0;
         for (int k = 0; k < sw[b].n; ++k) {
-            const double ls = log_load_at(&sw[0], sw[b].p[k].area);
+            const double ls = log(at_area(&sw[0], sw[b].p[k].area, offsetof(point, sigma0)));
             if (sw[b].p[k].area <= COLLAPSE_MAX_AREA && isfinite(ls)) {
                 ones[m] = 1.0;
                 shift[m++] = ls - log(sw[b].p[k].sigma0);
@@ -362,7 +353,8 @@ int main(int argc, char **argv) {
             double w[MAX_BODIES], th[MAX_BODIES];
             int mt = 0;
             for (int b = 0; b < N_ADH; ++b) {
-                const double ue = at_area(&ad[b], TARGETS[t], 0), ua = at_area(&ad[b], TARGETS[t], 1);
+                const double ue = at_area(&ad[b], TARGETS[t], offsetof(point, u_el));
+                const double ua = at_area(&ad[b], TARGETS[t], offsetof(point, u_ad));
                 if (!isfinite(ue) || !isfinite(ua)) continue; /* the area is outside this sweep */
                 fprintf(f7, "%g,%g,%.10e,%.10e,%.10e\n", ADH_WIDTHS[b], TARGETS[t], ue, ua, ue / ua);
                 if (ADH_WIDTHS[b] > 0.0 && ADH_WIDTHS[b] <= SMALL_W_THETA) {
