@@ -139,7 +139,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
             }
             case 7: st = gfmd_set_timestep(s, in.f64()); break;
             case 8: st = gfmd_set_damping(s, in.f64()); break;
-            case 9: st = gfmd_set_solver(s, static_cast<int32_t>(in.u8() % 3)); break;
+            case 9: st = gfmd_set_solver(s, static_cast<int32_t>(in.u8() % 4)); break;
             case 10: st = gfmd_step(s, static_cast<int64_t>(in.u8() % 40) - 2); break;
             case 11: {
                 int64_t taken = -1;

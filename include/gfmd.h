@@ -66,7 +66,8 @@ enum gfmd_distribution {
 /** Relaxation methods, for gfmd_set_solver(). */
 enum gfmd_solver {
     GFMD_SOLVER_VERLET = 0,  /**< the seed paper's damped Verlet dynamics */
-    GFMD_SOLVER_FIRE = 1     /**< FIRE (Bitzek et al., PRL 97, 170201 (2006)), the default */
+    GFMD_SOLVER_FIRE = 1,    /**< FIRE (Bitzek et al., PRL 97, 170201 (2006)), the default */
+    GFMD_SOLVER_FIRE_MASS = 2 /**< FIRE with mass weighting (see gfmd_set_solver()) */
 };
 
 /** FFTW planner rigour, for gfmd_set_fft_planner(). */
@@ -213,8 +214,14 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
 
 /**
  * Method used by gfmd_step() and gfmd_relax(): GFMD_SOLVER_FIRE (default; adapts its step up to
- * the time step and needs no damping) or GFMD_SOLVER_VERLET (damped dynamics).  Both share the
- * forces, the wall and the convergence criterion, and reach the same equilibrium.
+ * the time step and needs no damping), GFMD_SOLVER_FIRE_MASS (FIRE with each Fourier mode's inertia
+ * taken from its stiffness, floored at the stiffness of the current contact spacing; points the wall
+ * holds are kept still; its own time step, so gfmd_set_timestep() does not apply) or
+ * GFMD_SOLVER_VERLET (damped dynamics).  All share the forces, the wall and the convergence
+ * criterion, and reach the same equilibrium.  A step of GFMD_SOLVER_FIRE_MASS costs two FFT pairs
+ * instead of one and it needs one byte per point more (GFMD_ERR_NOMEM, nothing changed, if that
+ * cannot be had); it pays on thin sheets and at low loads, where it needs 2-5x fewer steps
+ * (docs/performance.md).
  */
 GFMD_API int32_t gfmd_set_solver(gfmd_sim *s, int32_t solver);
 

@@ -54,6 +54,7 @@ private:
 
 using RealBuffer = AlignedBuffer<double>;
 using ComplexBuffer = AlignedBuffer<std::complex<double>>;
+using ByteBuffer = AlignedBuffer<unsigned char>;
 
 }  // namespace gfmd
 

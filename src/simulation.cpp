@@ -33,6 +33,10 @@ constexpr double kFireInc = 1.1, kFireDec = 0.5;
 constexpr double kFireAlpha0 = 0.1, kFireAlphaDec = 0.99;
 constexpr int64_t kFireDelay = 5;
 
+// Mass-weighted FIRE: the contact spacing, in units of the mean spacing of the contact points,
+// below whose wavelength the modes keep masses proportional to their stiffness.
+constexpr double kMassSpacing = 1.0;
+
 std::string num(double x) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.6g", x);
@@ -70,7 +74,7 @@ Simulation::Simulation(int64_t nx, int64_t ny, double lx, double ly, int threads
       work_(static_cast<std::size_t>(grid_.complex_size())),
       saved_z_(static_cast<std::size_t>(n_)),
       saved_v_(static_cast<std::size_t>(n_)),
-      sums_(static_cast<std::size_t>(5 * std::max(block_count(n_, kBlock), block_count(ny, rows_per_block_)))) {
+      sums_(static_cast<std::size_t>(6 * std::max(block_count(n_, kBlock), block_count(ny, rows_per_block_)))) {
     adopt_stiffness(stiffness_for(kind_, width_, e_star_, nu_));
     reset();
 }
@@ -90,6 +94,7 @@ std::unique_ptr<Simulation> Simulation::clone() const {
     c->dt_user_ = dt_user_;
     c->eta_user_ = eta_user_;
     c->solver_ = solver_;
+    if (solver_ == GFMD_SOLVER_FIRE_MASS) c->held_ = ByteBuffer(static_cast<std::size_t>(n_));
     copy(stiff_, c->stiff_);
     c->k_min_ = k_min_;
     c->k_max_ = k_max_;
@@ -301,8 +306,12 @@ void Simulation::set_damping(double eta) {
 }
 
 void Simulation::set_solver(int32_t solver) {
-    if (solver != GFMD_SOLVER_VERLET && solver != GFMD_SOLVER_FIRE)
+    if (solver != GFMD_SOLVER_VERLET && solver != GFMD_SOLVER_FIRE && solver != GFMD_SOLVER_FIRE_MASS)
         fail(GFMD_ERR_BAD_ENUM, "unknown solver " + std::to_string(solver));
+    // Mass weighting needs one byte per point more; allocated first, so that a failure changes
+    // nothing, and released when another solver is chosen.
+    if (solver == GFMD_SOLVER_FIRE_MASS && held_.size() == 0) held_ = ByteBuffer(static_cast<std::size_t>(n_));
+    if (solver != GFMD_SOLVER_FIRE_MASS) held_ = ByteBuffer();
     solver_ = solver;
     restart_fire();
 }
@@ -323,7 +332,9 @@ void Simulation::set_planner(int32_t planner) {
 }
 
 void Simulation::restart_fire() {
-    fire_dt_ = kFireDtStart * dt_ / kDtFactor;
+    // Mass-weighted FIRE keeps its step as a fraction of its own time step mass_dt_.
+    fire_dt_ = kFireDtStart * ((solver_ == GFMD_SOLVER_FIRE_MASS) ? 1.0 : dt_ / kDtFactor);
+    mass_bucket_ = -1;
     fire_alpha_ = kFireAlpha0;
     fire_positive_ = 0;
 }
@@ -383,8 +394,9 @@ void Simulation::evaluate_forces() {
     const double inv_ref = 1.0 / ref;
     double *f = f_.data();
     const double *z = z_.data(), *h = h_.data(), *v = v_.data();
-    const auto sums = parallel_sums<5>(threads_, n_, kBlock, sums_.data(), [&](int64_t i0, int64_t i1, double *acc) {
+    const auto sums = parallel_sums<6>(threads_, n_, kBlock, sums_.data(), [&](int64_t i0, int64_t i1, double *acc) {
         double adh_sum = 0.0, res2 = 0.0, power = 0.0, v2 = 0.0, rel2 = 0.0;
+        int64_t touching = 0;
         for (int64_t i = i0; i < i1; ++i) {
             const double g = z[i] - h[i];
             double fi = f[i] - sigma0;
@@ -394,6 +406,7 @@ void Simulation::evaluate_forces() {
                 fi -= adh_coef * w;
             }
             f[i] = fi;
+            touching += (g <= 0.0) ? 1 : 0;
             const double r = (g <= 0.0) ? std::max(fi, 0.0) : fi;  // in contact only pulling away counts
             res2 += r * r;
             rel2 += (r * inv_ref) * (r * inv_ref);  // the residual, scaled first: no overflow
@@ -405,7 +418,9 @@ void Simulation::evaluate_forces() {
         acc[2] += power;
         acc[3] += v2;
         acc[4] += rel2;
+        acc[5] += static_cast<double>(touching);
     });
+    contacts_ = static_cast<int64_t>(sums[5]);
     u_ad_ = gamma0_ * area_per_point_ * sums[0];
     f_norm2_ = sums[1];
     power_ = sums[2];
@@ -416,6 +431,8 @@ void Simulation::evaluate_forces() {
 void Simulation::advance() {
     if (solver_ == GFMD_SOLVER_FIRE)
         advance_fire();
+    else if (solver_ == GFMD_SOLVER_FIRE_MASS)
+        advance_fire_mass();
     else
         advance_verlet();
     evaluate_forces();
@@ -459,6 +476,114 @@ void Simulation::advance_fire() {
             }
             vi += dt * fi;
             vi = keep * vi + mix * fi;
+            zi += dt * vi;
+            if (zi < h[i]) {
+                zi = h[i];
+                vi = 0.0;
+            }
+            v[i] = vi;
+            z[i] = zi;
+        }
+    });
+}
+
+// The mass floor of mass-weighted FIRE.  A body pressed onto a substrate at contact fraction phi
+// is held at points about sqrt(1/phi) cells apart; modes longer than that spacing are pinned by the
+// contacts and do not relax on their own (soft) elastic time scale.  Their masses are therefore
+// raised to the stiffness k_c at the contact spacing, the largest 1/G(q) over the fraction phi of
+// modes with the smallest |q| (|q|^2 <= 4 pi phi / cell).  The floor depends only on the bucket
+// floor(log2(contacts)), so it is a function of the state (a checkpoint resumes bit for bit).
+void Simulation::update_mass_floor() {
+    const int bucket = (contacts_ > 0) ? static_cast<int>(std::floor(std::log2(static_cast<double>(contacts_)))) : 0;
+    if (bucket == mass_bucket_) return;
+    const double phi = std::ldexp(1.0, bucket) / static_cast<double>(n_);
+    const double qc2 = kMassSpacing * kMassSpacing * 4.0 * 3.141592653589793 * phi / area_per_point_;
+    const int64_t nxh = grid_.nxh();
+    double kc = 0.0;
+    for (int64_t ky = 0; ky < grid_.ny(); ++ky) {
+        const double qy = grid_.qy(ky);
+        for (int64_t kx = 0; kx < nxh; ++kx) {
+            const double qx = grid_.qx(kx);
+            if (qx * qx + qy * qy <= qc2) kc = std::max(kc, stiff_[static_cast<std::size_t>(ky * nxh + kx)]);
+        }
+    }
+    mass_floor_ = std::min(std::max(kc, k_min_), k_max_);
+    // omega^2 = k(q)/m(q) <= 1 for the elastic modes; the adhesive law adds at most k_adh/k_c.
+    mass_dt_ = kDtFactor / std::sqrt(1.0 + adhesive_stiffness() / mass_floor_);
+    mass_bucket_ = bucket;
+}
+
+void Simulation::advance_fire_mass() {
+    // FIRE with mass weighting (after Zhou, Moseler & Mueser, PRB 99, 144103 (2019)): each Fourier
+    // mode has the inertia m(q) = max(k(q), k_c), so every mode stiffer than the contact spacing's
+    // k_c oscillates with the same frequency.  The wall stays a real-space constraint, treated so
+    // that it cannot feed the mass metric: (1) the force is projected before it is preconditioned,
+    // so the wall's reaction never enters M^-1; (2) the masses are bounded below by k_c, so M^-1 is
+    // bounded and the pinned long modes are not accelerated beyond what the contacts let them
+    // move; (3) a point that hits the wall stops, and FIRE's power test uses the true derivative
+    // of the energy, F.v, so any energy a clamp puts in is caught as an uphill step.
+    update_mass_floor();
+    bool uphill = false;
+    if (power_ > 0.0) {
+        if (++fire_positive_ > kFireDelay) {
+            fire_dt_ = std::min(fire_dt_ * kFireInc, kFireDtMax);
+            fire_alpha_ *= kFireAlphaDec;
+        }
+    } else {
+        uphill = true;
+        fire_positive_ = 0;
+        fire_dt_ *= kFireDec;
+        fire_alpha_ = kFireAlpha0;
+    }
+    const double dt = std::min(fire_dt_, kFireDtMax) * mass_dt_;
+
+    // a = M^-1 F_projected, one more r2c/c2r pair, computed in place of F (evaluate_forces()
+    // recomputes F after the step); |a|^2 by Parseval in the same pass.  Points held by the wall
+    // (in contact, pushed into it) are marked first: their acceleration is masked after the
+    // preconditioning, so that only the free points move, with the preconditioner restricted to
+    // them (a principal block of M^-1, still positive definite).  Without the mask the wall's
+    // held points are lifted by their neighbours' preconditioned pull and clamped back every
+    // step: the run bounces and never converges (measured; see docs/performance.md).
+    double *z = z_.data(), *v = v_.data(), *a = f_.data();
+    const double *h = h_.data();
+    unsigned char *held = held_.data();
+    parallel_for(threads_, n_, kBlock, [&](int64_t i0, int64_t i1) {
+        for (int64_t i = i0; i < i1; ++i) {
+            const bool contact = z[i] <= h[i];
+            held[i] = (contact && a[i] <= 0.0) ? 1 : 0;
+            if (contact) a[i] = std::max(a[i], 0.0);
+        }
+    });
+    grid_.forward(a, work_.data());
+    const int64_t nxh = grid_.nxh();
+    const double inv_n = 1.0 / static_cast<double>(n_), floor = mass_floor_;
+    std::complex<double> *work = work_.data();
+    const double *stiff = stiff_.data();
+    const auto a2 = parallel_sums<1>(threads_, grid_.ny(), rows_per_block_, sums_.data(),
+                                     [&](int64_t y0, int64_t y1, double *acc) {
+        for (int64_t ky = y0; ky < y1; ++ky) {
+            std::complex<double> *row = work + ky * nxh;
+            const double *krow = stiff + ky * nxh;
+            for (int64_t kx = 0; kx < nxh; ++kx) {
+                row[kx] *= inv_n / std::max(krow[kx], floor);
+                acc[0] += grid_.weight(kx) * std::norm(row[kx]);
+            }
+        }
+    });
+    grid_.backward(work_.data(), a);
+    const double a_norm = std::sqrt(a2[0] * static_cast<double>(n_));
+
+    // FIRE 1.0 order (Bitzek et al. 2006): mix v towards a with the current |v| (|a| before the
+    // mask: steering slightly weaker than FIRE's), then a semi-implicit Euler step; uphill: step
+    // back half a step and restart from rest.
+    const double mix = (a_norm > 0.0 && !uphill) ? fire_alpha_ * std::sqrt(v_norm2_) / a_norm : 0.0;
+    const double keep = uphill ? 0.0 : 1.0 - fire_alpha_;
+    parallel_for(threads_, n_, kBlock, [&](int64_t i0, int64_t i1) {
+        for (int64_t i = i0; i < i1; ++i) {
+            double zi = z[i];
+            if (uphill) zi -= 0.5 * dt * v[i];
+            const double ai = held[i] ? 0.0 : a[i];
+            double vi = keep * v[i] + (mix + dt) * ai;
             zi += dt * vi;
             if (zi < h[i]) {
                 zi = h[i];

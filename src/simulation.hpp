@@ -82,6 +82,8 @@ private:
     void advance();          // one step of the chosen solver followed by evaluate_forces()
     void advance_verlet();
     void advance_fire();
+    void advance_fire_mass();
+    void update_mass_floor();  // the mass floor for the current contact fraction
     void restart_fire();
     template <class Apply, class Undo>
     void change(const char *what, Apply &&apply, Undo &&undo);
@@ -117,6 +119,7 @@ private:
     RealBuffer h_, z_, v_, f_, stiff_;
     ComplexBuffer work_;
     RealBuffer saved_z_, saved_v_;
+    ByteBuffer held_;  // mass-weighted FIRE only: 1 where the wall holds the body
     mutable RealBuffer sums_;  // per-block partial sums of the threaded reductions
 
     // Cached observables of the current z (kept in step with z by evaluate_forces()).
@@ -124,6 +127,11 @@ private:
     // Sums over the projected force F (zero where the wall holds the body) for FIRE:
     // power F.v, |F|^2, |v|^2.
     double power_ = 0.0, f_norm2_ = 0.0, v_norm2_ = 0.0;
+    int64_t contacts_ = 0;  // points with zero gap
+    // Mass-weighted FIRE: masses m(q) = max(k(q), mass_floor_), chosen for the contact fraction
+    // bucket mass_bucket_ (floor(log2(contacts)), -1 = not chosen yet); its time step.
+    double mass_floor_ = 0.0, mass_dt_ = 0.0;
+    int mass_bucket_ = -1;
     // FIRE's adaptive state (Bitzek et al., PRL 97, 170201 (2006)).
     double fire_dt_ = 0.0, fire_alpha_ = 0.0;
     int64_t fire_positive_ = 0;

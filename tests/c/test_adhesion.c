@@ -35,8 +35,9 @@ static double total_energy(const body *b, const double *z, double *u_el, double 
     return *u_el - *u_ad + SIGMA0 * L * L * zbar / (N * N);
 }
 
-static void check_body(int32_t kind, double width) {
+static void check_body(int32_t kind, double width, int32_t solver) {
     gfmd_sim *s = ts_create(N, N, L, L);
+    TS_OK(s, gfmd_set_solver(s, solver));
     TS_OK(s, gfmd_generate_selfaffine(s, 0.8, 16.0, 4.0, 1.0, 77, GFMD_DIST_UNIFORM));
     if (kind != GFMD_GREEN_HALFSPACE) TS_OK(s, gfmd_set_green(s, kind, width));
     TS_OK(s, gfmd_set_pressure(s, SIGMA0));
@@ -47,7 +48,7 @@ static void check_body(int32_t kind, double width) {
     TS_OK(s, gfmd_set_adhesion(s, GAMMA0, RHO));
     TS_OK(s, gfmd_relax(s, 1e-9, 200000, &steps));
     TS_OK(s, gfmd_get_contact_area(s, &a_adh));
-    print_message("kind %d: A/A0 %.4f without adhesion, %.4f with\n", kind, a_plain, a_adh);
+    print_message("solver %d kind %d: A/A0 %.4f without adhesion, %.4f with\n", solver, kind, a_plain, a_adh);
     assert_true(a_adh > a_plain);
 
     double *h = ts_alloc(N * N), *z = ts_alloc(N * N), *zp = ts_alloc(N * N), *p = ts_alloc(N * N);
@@ -99,18 +100,27 @@ static void check_body(int32_t kind, double width) {
 
 static void adhesion_halfspace(void **state) {
     (void)state;
-    check_body(GFMD_GREEN_HALFSPACE, 0.0);
+    check_body(GFMD_GREEN_HALFSPACE, 0.0, GFMD_SOLVER_FIRE);
 }
 
 static void adhesion_layer(void **state) {
     (void)state;
-    check_body(GFMD_GREEN_LAYER_FLUID, 8.0);
+    check_body(GFMD_GREEN_LAYER_FLUID, 8.0, GFMD_SOLVER_FIRE);
+}
+
+/* The same checks for FIRE with mass weighting, down to a thin sheet (W = 0.25). */
+static void adhesion_mass_weighted(void **state) {
+    (void)state;
+    check_body(GFMD_GREEN_HALFSPACE, 0.0, GFMD_SOLVER_FIRE_MASS);
+    check_body(GFMD_GREEN_LAYER_FLUID, 8.0, GFMD_SOLVER_FIRE_MASS);
+    check_body(GFMD_GREEN_LAYER_FLUID, 1.0, GFMD_SOLVER_FIRE_MASS);
 }
 
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(adhesion_halfspace),
         cmocka_unit_test(adhesion_layer),
+        cmocka_unit_test(adhesion_mass_weighted),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

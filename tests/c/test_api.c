@@ -203,7 +203,8 @@ static void bad_enums_and_combinations(void **state) {
     gfmd_sim *s = *state;
     EXPECT(s, gfmd_set_green(s, 3, 1.0), GFMD_ERR_BAD_ENUM);
     EXPECT(s, gfmd_set_green(s, -1, 1.0), GFMD_ERR_BAD_ENUM);
-    EXPECT(s, gfmd_set_solver(s, 2), GFMD_ERR_BAD_ENUM);
+    EXPECT(s, gfmd_set_solver(s, 3), GFMD_ERR_BAD_ENUM);
+    EXPECT(s, gfmd_set_solver(s, -1), GFMD_ERR_BAD_ENUM);
     EXPECT(s, gfmd_generate_selfaffine(s, 0.8, 12.0, 3.0, 1.0, 3, 2), GFMD_ERR_BAD_ENUM);
     /* the bonded layer needs Poisson's ratio first */
     EXPECT(s, gfmd_set_green(s, GFMD_GREEN_LAYER_BONDED, 2.0), GFMD_ERR_STATE);
