@@ -3,10 +3,11 @@
  * run, for half-space and layers on a fluid foundation.
  *
  *   gfmd_bench [--sizes 256,512,1024,2048] [--big] [--widths 0,0.5,1,4] [--threads N]
- *              [--cg-seconds S] [--no-cg]
+ *              [--cg-seconds S] [--no-cg] [--sigma0 S] [--solver fire|mass|verlet]
  *
  * Problem (the issue's): self-affine, H = 0.8, lambda_s = 4a, lambda_r = n a/8, rms gradient 1,
- * E* = 1, sigma0 = 0.05; W = w/lambda_s, 0 = half-space.  The converged A/A0 comes from an
+ * E* = 1, sigma0 = 0.05 (--sigma0); W = w/lambda_s, 0 = half-space.  The "fft" column is the
+ * bare r2c + c2r pairs one step of the chosen solver needs (two for mass-weighted FIRE).  The converged A/A0 comes from an
  * untimed GFMD relaxation to 1e-10.  Then, from the same start, GFMD (in chunks of 5 steps) and
  * CG are timed: the time after which A/A0 stays within 0.1 % of the converged value ("to 0.1 %",
  * the speed-up compares these), and GFMD also until its default tolerance. */
@@ -91,7 +92,9 @@ static void die(gfmd_sim *s, int32_t st, const char *what) {
 int main(int argc, char **argv) {
     double sizes[8] = {256, 512, 1024, 2048}, widths[8] = {0, 0.5, 1, 4};
     int nsizes = 4, nwidths = 4, threads = 1, cg = 1;
-    double cg_seconds = 120.0;
+    double cg_seconds = 120.0, sigma0 = 0.05;
+    int32_t solver = GFMD_SOLVER_FIRE;
+    const char *solver_names[] = {"Verlet", "FIRE", "mass-weighted FIRE"};
     for (int i = 1; i < argc; ++i) {
         if (!strcmp(argv[i], "--sizes") && i + 1 < argc) nsizes = parse_list(argv[++i], sizes, 7);
         else if (!strcmp(argv[i], "--big")) sizes[nsizes++] = 4096;
@@ -99,22 +102,32 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--threads") && i + 1 < argc) threads = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--cg-seconds") && i + 1 < argc) cg_seconds = atof(argv[++i]);
         else if (!strcmp(argv[i], "--no-cg")) cg = 0;
-        else {
+        else if (!strcmp(argv[i], "--sigma0") && i + 1 < argc) sigma0 = atof(argv[++i]);
+        else if (!strcmp(argv[i], "--solver") && i + 1 < argc) {
+            ++i;
+            solver = !strcmp(argv[i], "mass") ? GFMD_SOLVER_FIRE_MASS : !strcmp(argv[i], "verlet") ? GFMD_SOLVER_VERLET
+                   : !strcmp(argv[i], "fire") ? GFMD_SOLVER_FIRE : -1;
+        } else
+            solver = -1;
+        if (solver < 0 || !(sigma0 > 0.0)) {
             fprintf(stderr, "usage: %s [--sizes 256,512,...] [--big] [--widths 0,0.5,1,4] [--threads N] "
-                            "[--cg-seconds S] [--no-cg]\n", argv[0]);
+                            "[--cg-seconds S] [--no-cg] [--sigma0 S] [--solver fire|mass|verlet]\n", argv[0]);
             return 2;
         }
     }
     if (threads < 1) threads = 1;
-    printf("gfmd %s benchmark: H = 0.8, lambda_s = 4a, lambda_r = n a/8, g = 1, E* = 1, sigma0 = 0.05, "
-           "%d thread(s), FFTW_MEASURE, default tol %.0e\n", gfmd_version(), threads, GFMD_DEFAULT_TOL);
+    /* FFT pairs per step: mass weighting transforms the projected force as well */
+    const int pairs = (solver == GFMD_SOLVER_FIRE_MASS) ? 2 : 1;
+    printf("gfmd %s benchmark: H = 0.8, lambda_s = 4a, lambda_r = n a/8, g = 1, E* = 1, sigma0 = %g, "
+           "%d thread(s), FFTW_MEASURE, default tol %.0e, %s (%d FFT pair(s) per step)\n", gfmd_version(), sigma0,
+           threads, GFMD_DEFAULT_TOL, solver_names[solver], pairs);
     printf("%5s %5s | %6s %8s %9s %9s %6s | %8s | %6s %8s | %7s %8s | %8s | %7s %6s\n", "n", "W", "steps", "seconds",
-           "s/step", "fft pair", "ratio", "A/A0", "steps", "s", "CG its", "CG s", "speedup", "peak MB", "B/pt");
-    printf("%5s %5s | %-43s | %8s | %-15s | %-16s | %8s | %14s\n", "", "", "GFMD (FIRE) to the default tolerance",
+           "s/step", "fft", "ratio", "A/A0", "steps", "s", "CG its", "CG s", "speedup", "peak MB", "B/pt");
+    printf("%5s %5s | %-43s | %8s | %-15s | %-16s | %8s | %14s\n", "", "", "GFMD to the default tolerance",
            "", "GFMD to 0.1 %", "CG to 0.1 %", "", "memory");
     for (int a = 0; a < nsizes; ++a) {
         const int n = (int)sizes[a];
-        const double l = n, t_fft = fft_pair_seconds(n, threads);
+        const double l = n, t_fft = pairs * fft_pair_seconds(n, threads);
         for (int b = 0; b < nwidths; ++b) {
             const double W = widths[b];
             gfmd_sim *s = NULL;
@@ -127,13 +140,14 @@ int main(int argc, char **argv) {
             if ((st = gfmd_generate_selfaffine(s, 0.8, l / 8.0, 4.0, 1.0, 2016, GFMD_DIST_UNIFORM)) != GFMD_OK)
                 die(s, st, "substrate");
             if (W > 0 && (st = gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, W * 4.0)) != GFMD_OK) die(s, st, "green");
-            if ((st = gfmd_set_pressure(s, 0.05)) != GFMD_OK) die(s, st, "pressure");
+            if ((st = gfmd_set_solver(s, solver)) != GFMD_OK) die(s, st, "solver");
+            if ((st = gfmd_set_pressure(s, sigma0)) != GFMD_OK) die(s, st, "pressure");
             /* the converged value, untimed, then the same start again */
             double area_conv = 0, area = 0, residual = 1;
             if ((st = gfmd_relax(s, 1e-10, 10000000, &more)) != GFMD_OK) die(s, st, "relax to 1e-10");
             gfmd_get_contact_area(s, &area_conv);
             gfmd_reset(s);
-            gfmd_set_pressure(s, 0.05); /* restarts FIRE's adaptive state */
+            gfmd_set_pressure(s, sigma0); /* restarts FIRE's adaptive state */
             double t0 = now(), t_acc = -1.0; /* time after which A/A0 stayed within 0.1 % */
             int64_t steps_acc = -1;
             while (residual > GFMD_DEFAULT_TOL && steps < 10000000) {
@@ -161,7 +175,7 @@ int main(int argc, char **argv) {
             if (cg) {
                 cg_options opt = {1e-12, 100000000, cg_seconds, threads, FFTW_MEASURE, area_conv, 1e-3};
                 r = cg_solve_opts(n, n, l, l, h, W > 0 ? GFMD_GREEN_LAYER_FLUID : GFMD_GREEN_HALFSPACE, W * 4.0, 0.0,
-                                  1.0, 0.05, &opt, NULL, NULL);
+                                  1.0, sigma0, &opt, NULL, NULL);
                 free(h);
             }
             char cg_its[32] = "-", cg_s[32] = "-", speed[32] = "-";

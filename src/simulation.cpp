@@ -508,8 +508,15 @@ void Simulation::update_mass_floor() {
         }
     }
     mass_floor_ = std::min(std::max(kc, k_min_), k_max_);
-    // omega^2 = k(q)/m(q) <= 1 for the elastic modes; the adhesive law adds at most k_adh/k_c.
-    mass_dt_ = kDtFactor / std::sqrt(1.0 + adhesive_stiffness() / mass_floor_);
+    // omega^2 = k(q)/m(q) <= 1 for the elastic modes.  The adhesive law's stiffness is local: a
+    // single point's acceleration per unit force is the real-space diagonal of M^-1, the mean of
+    // 1/m(q) over all modes (translation invariance), so it adds k_adh <1/m>.
+    double inv_m = 0.0;
+    for (int64_t ky = 0; ky < grid_.ny(); ++ky)
+        for (int64_t kx = 0; kx < nxh; ++kx)
+            inv_m += grid_.weight(kx) / std::max(stiff_[static_cast<std::size_t>(ky * nxh + kx)], mass_floor_);
+    inv_m /= static_cast<double>(n_);
+    mass_dt_ = kDtFactor / std::sqrt(1.0 + adhesive_stiffness() * inv_m);
     mass_bucket_ = bucket;
 }
 

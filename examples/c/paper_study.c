@@ -3,7 +3,7 @@
  * substrate, the collapse factor c(W), the separation, and the adhesive energy ratio theta.
  *
  *   gfmd_paper [--n N] [--bandwidth R] [--full | --quick] [--out DIR] [--seed S] [--threads T]
- *              [--no-adhesion] [--widths 0,W1,W2,...]
+ *              [--no-adhesion] [--widths 0,W1,W2,...] [--solver fire|mass]
  *
  * Surface: H = 0.8, lambda_s = 4a, lambda_r = R lambda_s, cell L = N a (default N = 256, R = 32,
  * L = 2 lambda_r; --full: N = 2048, R = 64, L = 8 lambda_r as in the paper; --quick, the test's
@@ -108,9 +108,12 @@ static double persson_load(double v, double area) {
     return 0.5 * (lo + hi) * sqrt(2.0 * v);
 }
 
+static int32_t solver = GFMD_SOLVER_FIRE; /* --solver mass: FIRE with mass weighting */
+
 static gfmd_sim *body(const gfmd_sim *surface, double W) {
     gfmd_sim *s = NULL;
     CHECK(surface, gfmd_sim_clone(surface, &s));
+    CHECK(s, gfmd_set_solver(s, solver));
     if (W > 0.0) CHECK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, W * LAMBDA_S));
     return s;
 }
@@ -187,7 +190,7 @@ static double at_area(const sweep *c, double area, size_t field) {
 }
 
 static void usage(const char *argv0) {
-    fprintf(stderr, "usage: %s [--n N] [--bandwidth R] [--full | --quick] [--out DIR] [--seed S] [--threads T] [--no-adhesion] [--widths 0,W1,...]\n",
+    fprintf(stderr, "usage: %s [--n N] [--bandwidth R] [--full | --quick] [--out DIR] [--seed S] [--threads T] [--no-adhesion] [--widths 0,W1,...] [--solver fire|mass]\n",
             argv0);
     exit(2);
 }
@@ -211,6 +214,10 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--seed") && i + 1 < argc) seed = strtoull(argv[++i], NULL, 10);
         else if (!strcmp(argv[i], "--threads") && i + 1 < argc) threads = strtol(argv[++i], NULL, 10);
         else if (!strcmp(argv[i], "--no-adhesion")) adhesion = 0;
+        else if (!strcmp(argv[i], "--solver") && i + 1 < argc && !strcmp(argv[i + 1], "fire"))
+            solver = GFMD_SOLVER_FIRE, ++i;
+        else if (!strcmp(argv[i], "--solver") && i + 1 < argc && !strcmp(argv[i + 1], "mass"))
+            solver = GFMD_SOLVER_FIRE_MASS, ++i;
         else if (!strcmp(argv[i], "--widths") && i + 1 < argc) {
             /* comma-separated W list for the sweeps without adhesion, 0 = half-space first */
             int k = 0;
