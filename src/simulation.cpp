@@ -397,6 +397,9 @@ void Simulation::evaluate_forces() {
     const auto sums = parallel_sums<6>(threads_, n_, kBlock, sums_.data(), [&](int64_t i0, int64_t i1, double *acc) {
         double adh_sum = 0.0, res2 = 0.0, power = 0.0, v2 = 0.0, rel2 = 0.0;
         int64_t touching = 0;
+        // Vectorized: the block's partial sums are split over SIMD lanes, in a fixed order, so
+        // results stay independent of the thread count.
+#pragma omp simd reduction(+ : adh_sum, res2, power, v2, rel2, touching)
         for (int64_t i = i0; i < i1; ++i) {
             const double g = z[i] - h[i];
             double fi = f[i] - sigma0;
@@ -463,26 +466,24 @@ void Simulation::advance_fire() {
     if (!uphill) vn2 = v_norm2_ + 2.0 * dt * power_ + dt * dt * f_norm2_;
     const double mix = (f_norm2_ > 0.0) ? fire_alpha_ * std::sqrt(std::max(vn2, 0.0) / f_norm2_) : 0.0;
     const double keep = 1.0 - fire_alpha_;
-    double *z = z_.data(), *v = v_.data();
-    const double *h = h_.data(), *f = f_.data();
+    // Uphill: step back half a step (FIRE 2.0), then restart from rest.
+    const double back = uphill ? 0.5 * dt : 0.0;
+    double *__restrict z = z_.data(), *__restrict v = v_.data();
+    const double *__restrict h = h_.data(), *__restrict f = f_.data();
     parallel_for(threads_, n_, kBlock, [&](int64_t i0, int64_t i1) {
+        // Branch-free (selects), so that scattered contact points cost no mispredictions and
+        // the loop vectorizes.
+#pragma omp simd
         for (int64_t i = i0; i < i1; ++i) {
-            const double fi = (z[i] <= h[i]) ? std::max(f[i], 0.0) : f[i];
-            double zi = z[i];
-            double vi = v[i];
-            if (uphill) {
-                zi -= 0.5 * dt * vi;  // step back half a step (FIRE 2.0), then restart from rest
-                vi = 0.0;
-            }
+            const double zo = z[i], vo = v[i], hi = h[i], fo = f[i];
+            const double fi = (zo <= hi) ? std::max(fo, 0.0) : fo;
+            double vi = uphill ? 0.0 : vo;
             vi += dt * fi;
             vi = keep * vi + mix * fi;
-            zi += dt * vi;
-            if (zi < h[i]) {
-                zi = h[i];
-                vi = 0.0;
-            }
-            v[i] = vi;
-            z[i] = zi;
+            const double zn = zo - back * vo + dt * vi;
+            const bool hit = zn < hi;  // the wall stops a point that reaches it
+            v[i] = hit ? 0.0 : vi;
+            z[i] = hit ? hi : zn;
         }
     });
 }
@@ -555,10 +556,12 @@ void Simulation::advance_fire_mass() {
     const double *h = h_.data();
     unsigned char *held = held_.data();
     parallel_for(threads_, n_, kBlock, [&](int64_t i0, int64_t i1) {
+#pragma omp simd
         for (int64_t i = i0; i < i1; ++i) {
+            const double fo = a[i];
             const bool contact = z[i] <= h[i];
-            held[i] = (contact && a[i] <= 0.0) ? 1 : 0;
-            if (contact) a[i] = std::max(a[i], 0.0);
+            held[i] = (contact && fo <= 0.0) ? 1 : 0;
+            a[i] = contact ? std::max(fo, 0.0) : fo;
         }
     });
     grid_.forward(a, work_.data());
@@ -585,19 +588,17 @@ void Simulation::advance_fire_mass() {
     // back half a step and restart from rest.
     const double mix = (a_norm > 0.0 && !uphill) ? fire_alpha_ * std::sqrt(v_norm2_) / a_norm : 0.0;
     const double keep = uphill ? 0.0 : 1.0 - fire_alpha_;
+    const double back = uphill ? 0.5 * dt : 0.0;
     parallel_for(threads_, n_, kBlock, [&](int64_t i0, int64_t i1) {
-        for (int64_t i = i0; i < i1; ++i) {
-            double zi = z[i];
-            if (uphill) zi -= 0.5 * dt * v[i];
-            const double ai = held[i] ? 0.0 : a[i];
-            double vi = keep * v[i] + (mix + dt) * ai;
-            zi += dt * vi;
-            if (zi < h[i]) {
-                zi = h[i];
-                vi = 0.0;
-            }
-            v[i] = vi;
-            z[i] = zi;
+#pragma omp simd
+        for (int64_t i = i0; i < i1; ++i) {  // branch-free, as in advance_fire()
+            const double zo = z[i], vo = v[i], hi = h[i], ao = a[i];
+            const double ai = held[i] ? 0.0 : ao;
+            const double vi = keep * vo + (mix + dt) * ai;
+            const double zn = zo - back * vo + dt * vi;
+            const bool hit = zn < hi;
+            v[i] = hit ? 0.0 : vi;
+            z[i] = hit ? hi : zn;
         }
     });
 }
