@@ -441,24 +441,29 @@ void Simulation::advance() {
     evaluate_forces();
 }
 
-void Simulation::advance_fire() {
-    // FIRE 2.0 (Guenole et al. 2020, Algorithm 2) on the real-space field, unit mass per area:
-    // uphill (F.v <= 0) -> stop and shrink the step; downhill -> grow it and steer v along F.
-    // The wall is handled as in the damped dynamics: forces into the substrate at points in
-    // contact are taken by the wall (projected out of F) and a point that hits it stops.
-    const double dt_max = kFireDtMax * dt_ / kDtFactor;
-    bool uphill = false;
+// FIRE's adaptive control from the power F.v of the last force evaluation: downhill -> after
+// kFireDelay such steps grow the step (up to dt_max) and decay the mixing; uphill -> halve the
+// step and reset the mixing.  Returns true if uphill.
+bool Simulation::fire_control(double dt_max) {
     if (power_ > 0.0) {
         if (++fire_positive_ > kFireDelay) {
             fire_dt_ = std::min(fire_dt_ * kFireInc, dt_max);
             fire_alpha_ *= kFireAlphaDec;
         }
-    } else {
-        uphill = true;
-        fire_positive_ = 0;
-        fire_dt_ *= kFireDec;
-        fire_alpha_ = kFireAlpha0;
+        return false;
     }
+    fire_positive_ = 0;
+    fire_dt_ *= kFireDec;
+    fire_alpha_ = kFireAlpha0;
+    return true;
+}
+
+void Simulation::advance_fire() {
+    // FIRE 2.0 (Guenole et al. 2020, Algorithm 2) on the real-space field, unit mass per area:
+    // uphill (F.v <= 0) -> stop and shrink the step; downhill -> grow it and steer v along F.
+    // The wall is handled as in the damped dynamics: forces into the substrate at points in
+    // contact are taken by the wall (projected out of F) and a point that hits it stops.
+    const bool uphill = fire_control(kFireDtMax * dt_ / kDtFactor);
     const double dt = fire_dt_;
     // Mixing after the velocity update: v <- (1-a) v + a |v| F/|F|, with |v| of the updated v.
     // |v + dt F|^2 follows from the sums of the last force evaluation.
@@ -526,23 +531,13 @@ void Simulation::advance_fire_mass() {
     // mode has the inertia m(q) = max(k(q), k_c), so every mode stiffer than the contact spacing's
     // k_c oscillates with the same frequency.  The wall stays a real-space constraint, treated so
     // that it cannot feed the mass metric: (1) the force is projected before it is preconditioned,
-    // so the wall's reaction never enters M^-1; (2) the masses are bounded below by k_c, so M^-1 is
-    // bounded and the pinned long modes are not accelerated beyond what the contacts let them
-    // move; (3) a point that hits the wall stops, and FIRE's power test uses the true derivative
-    // of the energy, F.v, so any energy a clamp puts in is caught as an uphill step.
+    // so the wall's reaction never enters M^-1; (2) the points the wall holds are masked after it
+    // (below); (3) the masses are bounded below by k_c, so M^-1 is bounded and the pinned long
+    // modes are not accelerated beyond what the contacts let them move; (4) a point that hits the
+    // wall stops, and FIRE's power test uses the true derivative of the energy, F.v, so any energy
+    // a clamp puts in is caught as an uphill step.
     update_mass_floor();
-    bool uphill = false;
-    if (power_ > 0.0) {
-        if (++fire_positive_ > kFireDelay) {
-            fire_dt_ = std::min(fire_dt_ * kFireInc, kFireDtMax);
-            fire_alpha_ *= kFireAlphaDec;
-        }
-    } else {
-        uphill = true;
-        fire_positive_ = 0;
-        fire_dt_ *= kFireDec;
-        fire_alpha_ = kFireAlpha0;
-    }
+    const bool uphill = fire_control(kFireDtMax);  // the step as a fraction of mass_dt_
     const double dt = std::min(fire_dt_, kFireDtMax) * mass_dt_;
 
     // a = M^-1 F_projected, one more r2c/c2r pair, computed in place of F (evaluate_forces()

@@ -81,6 +81,7 @@ private:
     void evaluate_forces();  // forces, energies and residual of the current z
     void advance();          // one step of the chosen solver followed by evaluate_forces()
     void advance_verlet();
+    bool fire_control(double dt_max);  // FIRE's step and mixing from the power; true if uphill
     void advance_fire();
     void advance_fire_mass();
     void update_mass_floor();  // the mass floor for the current contact fraction
