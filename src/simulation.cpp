@@ -237,15 +237,20 @@ void Simulation::change_substrate(Fill &&fill) {
             std::copy(z_.data(), z_.data() + n_, saved_v_.data());
             std::copy(v_.data(), v_.data() + n_, f_.data());
             fill();
-            const double top = *std::max_element(h_.data(), h_.data() + n_);
-            std::fill(z_.data(), z_.data() + n_, top);
-            std::fill(v_.data(), v_.data() + n_, 0.0);
+            put_flat_at_rest();
         },
         [&] {
             std::copy(saved_z_.data(), saved_z_.data() + n_, h_.data());
             std::copy(saved_v_.data(), saved_v_.data() + n_, z_.data());
             std::copy(f_.data(), f_.data() + n_, v_.data());
         });
+}
+
+// The body flat at the highest substrate point, at rest (new substrate, reset).
+void Simulation::put_flat_at_rest() {
+    const double top = *std::max_element(h_.data(), h_.data() + n_);
+    std::fill(z_.data(), z_.data() + n_, top);
+    std::fill(v_.data(), v_.data() + n_, 0.0);
 }
 
 void Simulation::set_heights(const double *h) {
@@ -347,9 +352,7 @@ void Simulation::reset() {
         [&] {
             std::copy(z_.data(), z_.data() + n_, saved_z_.data());
             std::copy(v_.data(), v_.data() + n_, saved_v_.data());
-            const double top = *std::max_element(h_.data(), h_.data() + n_);
-            std::fill(z_.data(), z_.data() + n_, top);
-            std::fill(v_.data(), v_.data() + n_, 0.0);
+            put_flat_at_rest();
         },
         [&] {
             std::copy(saved_z_.data(), saved_z_.data() + n_, z_.data());

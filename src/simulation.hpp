@@ -91,6 +91,7 @@ private:
     void change_body(const char *what, int32_t kind, double width, double e_star, double nu);
     template <class Fill>
     void change_substrate(Fill &&fill);
+    void put_flat_at_rest();
     void save_state();
     void restore_state();
     [[noreturn]] void diverged(int64_t step);
