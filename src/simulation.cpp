@@ -33,8 +33,8 @@ constexpr double kFireInc = 1.1, kFireDec = 0.5;
 constexpr double kFireAlpha0 = 0.1, kFireAlphaDec = 0.99;
 constexpr int64_t kFireDelay = 5;
 
-// Mass-weighted FIRE: the contact spacing, in units of the mean spacing of the contact points,
-// below whose wavelength the modes keep masses proportional to their stiffness.
+// Mass-weighted FIRE: the mass floor is the stiffness at kMassSpacing times the wave vector of the
+// contact points' mean spacing (1 was best of 0.25 ... 4, docs/performance.md).
 constexpr double kMassSpacing = 1.0;
 
 std::string num(double x) {

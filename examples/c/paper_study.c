@@ -214,10 +214,12 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--seed") && i + 1 < argc) seed = strtoull(argv[++i], NULL, 10);
         else if (!strcmp(argv[i], "--threads") && i + 1 < argc) threads = strtol(argv[++i], NULL, 10);
         else if (!strcmp(argv[i], "--no-adhesion")) adhesion = 0;
-        else if (!strcmp(argv[i], "--solver") && i + 1 < argc && !strcmp(argv[i + 1], "fire"))
-            solver = GFMD_SOLVER_FIRE, ++i;
-        else if (!strcmp(argv[i], "--solver") && i + 1 < argc && !strcmp(argv[i + 1], "mass"))
-            solver = GFMD_SOLVER_FIRE_MASS, ++i;
+        else if (!strcmp(argv[i], "--solver") && i + 1 < argc) {
+            ++i;
+            if (!strcmp(argv[i], "fire")) solver = GFMD_SOLVER_FIRE;
+            else if (!strcmp(argv[i], "mass")) solver = GFMD_SOLVER_FIRE_MASS;
+            else usage(argv[0]);
+        }
         else if (!strcmp(argv[i], "--widths") && i + 1 < argc) {
             /* comma-separated W list for the sweeps without adhesion, 0 = half-space first */
             int k = 0;
