@@ -109,6 +109,19 @@ GFMD_API int32_t gfmd_last_error_length(const gfmd_sim *s, int64_t *needed);
 GFMD_API int32_t gfmd_sim_create(int64_t nx, int64_t ny, double lx, double ly, gfmd_sim **out);
 
 /**
+ * gfmd_sim_create() with the thread count and the FFT planner fixed before the first FFT plan is
+ * made, so that the handle plans exactly once and an ESTIMATE handle never meets a measured plan
+ * (FFTW reuses wisdom of a more rigorous planner: a MEASURE plan made first would change the
+ * transforms' bits from one process to the next).
+ * @param nthreads threads as in gfmd_set_threads() (0 = the default).
+ * @param planner  GFMD_PLANNER_* as in gfmd_set_fft_planner().
+ * @return as gfmd_sim_create(), and GFMD_ERR_INVALID_ARG for nthreads outside [0, 4096],
+ *         GFMD_ERR_BAD_ENUM for an unknown planner.
+ */
+GFMD_API int32_t gfmd_sim_create_ex(int64_t nx, int64_t ny, double lx, double ly, int32_t nthreads,
+                                    int32_t planner, gfmd_sim **out);
+
+/**
  * Deep copy: *out receives a new, independent handle in the same state as @p s (substrate,
  * configuration, parameters, solver state; not the last error message).  *out is NULL on failure.
  */

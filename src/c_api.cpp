@@ -133,6 +133,24 @@ int32_t gfmd_sim_create(int64_t nx, int64_t ny, double lx, double ly, gfmd_sim *
     });
 }
 
+int32_t gfmd_sim_create_ex(int64_t nx, int64_t ny, double lx, double ly, int32_t nthreads, int32_t planner,
+                           gfmd_sim **out) {
+    if (out == nullptr) return GFMD_ERR_NULL;
+    *out = nullptr;
+    if (nx <= 0 || ny <= 0 || nx > (INT64_C(1) << 30) || ny > (INT64_C(1) << 30)) return GFMD_ERR_INVALID_ARG;
+    if (!(lx >= gfmd::kMinLength && lx <= gfmd::kMaxLength && ly >= gfmd::kMinLength && ly <= gfmd::kMaxLength))
+        return GFMD_ERR_INVALID_ARG;  // also catches NaN
+    if (nthreads < 0 || nthreads > 4096) return GFMD_ERR_INVALID_ARG;
+    if (planner != GFMD_PLANNER_ESTIMATE && planner != GFMD_PLANNER_MEASURE && planner != GFMD_PLANNER_PATIENT)
+        return GFMD_ERR_BAD_ENUM;
+    if (!fits_in_memory(nx, ny)) return GFMD_ERR_NOMEM;
+    return status_of([&] {
+        auto handle = std::make_unique<gfmd_sim>();
+        handle->sim = std::make_unique<gfmd::Simulation>(nx, ny, lx, ly, nthreads, planner);
+        *out = handle.release();
+    });
+}
+
 int32_t gfmd_sim_clone(const gfmd_sim *s, gfmd_sim **out) {
     if (out == nullptr) return GFMD_ERR_NULL;
     *out = nullptr;

@@ -20,6 +20,8 @@ constexpr double kMinLength = 1e-100, kMaxLength = 1e100;
 class Simulation {
 public:
     Simulation(int64_t nx, int64_t ny, double lx, double ly);
+    // threads 0 = all cores; the FFT is planned once, with these settings.
+    Simulation(int64_t nx, int64_t ny, double lx, double ly, int threads, int32_t planner);
     // Deep copy: an independent simulation in the same state (parameters, fields, solver state).
     std::unique_ptr<Simulation> clone() const;
 
@@ -73,8 +75,6 @@ private:
     // Stiffness 1/G(q) on the Hermitian half-spectrum for a candidate body; throws on overflow.
     RealBuffer stiffness_for(int32_t kind, double width, double e_star, double nu) const;
     void adopt_stiffness(RealBuffer &&k);  // commit and update the automatic dynamics
-    // threads 0 = all cores; used by clone() and load() to plan once with the right settings.
-    Simulation(int64_t nx, int64_t ny, double lx, double ly, int threads, int32_t planner);
     double adhesive_stiffness() const;  // gamma0/rho^2, the stiffest point of the adhesive law
     bool state_finite() const;          // forces, energies and residual all finite
     void update_dynamics();
