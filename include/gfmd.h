@@ -266,11 +266,27 @@ GFMD_API int32_t gfmd_export_wisdom(const char *path);
 GFMD_API int32_t gfmd_get_dynamics(const gfmd_sim *s, double *dt, double *eta);
 
 /**
+ * @par Continuing a trajectory
+ * The solver's adaptive state (FIRE's step and mixing) lives in the handle: gfmd_step() and
+ * gfmd_relax() continue where the last call stopped, so gfmd_relax(N) then gfmd_relax(M), or any
+ * chunks of gfmd_step(), follow exactly the trajectory of one call (same steps, same bits), and a
+ * checkpoint taken between chunks resumes it.  The solver restarts only when the energy landscape
+ * or the dynamics change: gfmd_set_pressure, gfmd_set_adhesion, gfmd_set_green, gfmd_set_modulus,
+ * gfmd_set_poisson (bonded layer), a new substrate, gfmd_set_solver, gfmd_set_timestep,
+ * gfmd_set_damping, gfmd_reset, or gfmd_restart_solver().
+ */
+
+/**
  * Advance @p nsteps >= 0 steps of the chosen solver (elastic forces in Fourier space,
  * non-penetration z >= h enforced in real space after each step).
- * GFMD_ERR_DIVERGED if a non-finite value appears; the state before the call is then restored.
+ * GFMD_ERR_DIVERGED if a non-finite value appears; the state before the call (configuration and
+ * solver state) is then restored.
  */
 GFMD_API int32_t gfmd_step(gfmd_sim *s, int64_t nsteps);
+
+/** Restart the solver's adaptive state as a change of the landscape would (e.g. after the user
+ *  moved the configuration by other means); the configuration stays. */
+GFMD_API int32_t gfmd_restart_solver(gfmd_sim *s);
 
 /** Default tolerance of gfmd_relax() (used when tol <= 0). */
 #define GFMD_DEFAULT_TOL 1e-6
@@ -278,8 +294,9 @@ GFMD_API int32_t gfmd_step(gfmd_sim *s, int64_t nsteps);
 /**
  * Step until the relative force residual (see gfmd_get_residual) is <= tol (tol <= 0: the
  * default GFMD_DEFAULT_TOL), at most @p max_steps > 0 steps.  @p steps_taken (may be NULL)
- * receives the steps made.  GFMD_ERR_NOT_CONVERGED if the limit is reached; the progress is kept
- * so that another call continues.  GFMD_ERR_DIVERGED restores the state before the call.
+ * receives the steps made.  GFMD_ERR_NOT_CONVERGED if the limit is reached; the progress and the
+ * solver's state are kept, so that another call continues the same trajectory.
+ * GFMD_ERR_DIVERGED restores the state before the call.
  */
 GFMD_API int32_t gfmd_relax(gfmd_sim *s, double tol, int64_t max_steps, int64_t *steps_taken);
 

@@ -1,6 +1,4 @@
 // The C ABI: check arguments, call the core, turn every exception into a status plus message.
-#include <unistd.h>
-
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -73,17 +71,6 @@ void need(const T *p, const char *name) {
     if (p == nullptr) fail(GFMD_ERR_NULL, std::string("argument '") + name + "' is NULL");
 }
 
-constexpr double kMemoryBytesPerPoint = 64.0;  // fields + FFT scratch, see Simulation
-
-// Refuse grids that cannot fit in physical memory instead of letting the OOM killer end the
-// user's process when the pages are touched.
-bool fits_in_memory(int64_t nx, int64_t ny) {
-    const double points = static_cast<double>(nx) * static_cast<double>(ny);
-    long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
-    if (pages <= 0 || page <= 0) return points < 1e12;
-    return points * kMemoryBytesPerPoint < static_cast<double>(pages) * static_cast<double>(page);
-}
-
 }  // namespace
 
 extern "C" {
@@ -120,30 +107,13 @@ int32_t gfmd_last_error_length(const gfmd_sim *s, int64_t *needed) {
 }
 
 int32_t gfmd_sim_create(int64_t nx, int64_t ny, double lx, double ly, gfmd_sim **out) {
-    if (out == nullptr) return GFMD_ERR_NULL;
-    *out = nullptr;
-    if (nx <= 0 || ny <= 0 || nx > (INT64_C(1) << 30) || ny > (INT64_C(1) << 30)) return GFMD_ERR_INVALID_ARG;
-    if (!(lx >= gfmd::kMinLength && lx <= gfmd::kMaxLength && ly >= gfmd::kMinLength && ly <= gfmd::kMaxLength))
-        return GFMD_ERR_INVALID_ARG;  // also catches NaN
-    if (!fits_in_memory(nx, ny)) return GFMD_ERR_NOMEM;
-    return status_of([&] {
-        auto handle = std::make_unique<gfmd_sim>();
-        handle->sim = std::make_unique<gfmd::Simulation>(nx, ny, lx, ly);
-        *out = handle.release();
-    });
+    return gfmd_sim_create_ex(nx, ny, lx, ly, 0, GFMD_PLANNER_MEASURE, out);
 }
 
 int32_t gfmd_sim_create_ex(int64_t nx, int64_t ny, double lx, double ly, int32_t nthreads, int32_t planner,
                            gfmd_sim **out) {
     if (out == nullptr) return GFMD_ERR_NULL;
     *out = nullptr;
-    if (nx <= 0 || ny <= 0 || nx > (INT64_C(1) << 30) || ny > (INT64_C(1) << 30)) return GFMD_ERR_INVALID_ARG;
-    if (!(lx >= gfmd::kMinLength && lx <= gfmd::kMaxLength && ly >= gfmd::kMinLength && ly <= gfmd::kMaxLength))
-        return GFMD_ERR_INVALID_ARG;  // also catches NaN
-    if (nthreads < 0 || nthreads > 4096) return GFMD_ERR_INVALID_ARG;
-    if (planner != GFMD_PLANNER_ESTIMATE && planner != GFMD_PLANNER_MEASURE && planner != GFMD_PLANNER_PATIENT)
-        return GFMD_ERR_BAD_ENUM;
-    if (!fits_in_memory(nx, ny)) return GFMD_ERR_NOMEM;
     return status_of([&] {
         auto handle = std::make_unique<gfmd_sim>();
         handle->sim = std::make_unique<gfmd::Simulation>(nx, ny, lx, ly, nthreads, planner);
@@ -152,11 +122,12 @@ int32_t gfmd_sim_create_ex(int64_t nx, int64_t ny, double lx, double ly, int32_t
 }
 
 int32_t gfmd_sim_clone(const gfmd_sim *s, gfmd_sim **out) {
-    if (out == nullptr) return GFMD_ERR_NULL;
+    if (out == nullptr) {
+        if (s != nullptr) record(s, "argument 'out' is NULL");
+        return GFMD_ERR_NULL;
+    }
     *out = nullptr;
     return guarded(s, [&](const gfmd::Simulation &m) {
-        if (!fits_in_memory(m.grid().nx(), m.grid().ny()))
-            fail(GFMD_ERR_NOMEM, "a copy of this grid does not fit in physical memory");
         auto handle = std::make_unique<gfmd_sim>();
         handle->sim = m.clone();
         *out = handle.release();
@@ -177,18 +148,19 @@ int32_t gfmd_sim_save(const gfmd_sim *s, const char *path) {
 }
 
 int32_t gfmd_sim_load(const char *path, gfmd_sim **out, char *errbuf, int64_t errlen) {
-    if (out == nullptr) return GFMD_ERR_NULL;
-    *out = nullptr;
-    if (errbuf != nullptr && errlen > 0) errbuf[0] = '\0';
-    if (path == nullptr) return GFMD_ERR_NULL;
+    // The caller's buffer receives the message of every failure, the early ones included.
     auto report = [&](const char *msg) {
         if (errbuf == nullptr || errlen <= 0) return;
         std::snprintf(errbuf, static_cast<std::size_t>(errlen), "%s", msg);
     };
+    report("");
+    if (out != nullptr) *out = nullptr;
     return status_of(
         [&] {
+            need(out, "out");
+            need(path, "path");
             auto handle = std::make_unique<gfmd_sim>();
-            handle->sim = gfmd::Simulation::load(path, fits_in_memory);
+            handle->sim = gfmd::Simulation::load(path);
             *out = handle.release();
         },
         report);
@@ -217,14 +189,14 @@ int32_t gfmd_set_poisson(gfmd_sim *s, double nu) {
 
 int32_t gfmd_green_factor(int32_t kind, double t, double nu, double *f) {
     if (f == nullptr) return GFMD_ERR_NULL;
-    if (kind != GFMD_GREEN_HALFSPACE && kind != GFMD_GREEN_LAYER_FLUID && kind != GFMD_GREEN_LAYER_BONDED)
-        return GFMD_ERR_BAD_ENUM;
-    if (!std::isfinite(t) || t <= 0.0) return GFMD_ERR_INVALID_ARG;
-    if (kind == GFMD_GREEN_LAYER_BONDED && (!std::isfinite(nu) || nu <= -1.0 || nu > 0.5)) return GFMD_ERR_INVALID_ARG;
-    const double v = gfmd::green_factor(kind, t, nu);
-    if (!(v > 0.0) || !std::isfinite(v)) return GFMD_ERR_RANGE;  // over- or underflow (fuzz finding)
-    *f = v;
-    return GFMD_OK;
+    return status_of([&] {
+        gfmd::validate_green_kind(kind);
+        if (!std::isfinite(t) || t <= 0.0) fail(GFMD_ERR_INVALID_ARG, "t must be finite and > 0");
+        if (kind == GFMD_GREEN_LAYER_BONDED) gfmd::validate_poisson(nu);
+        const double v = gfmd::green_factor(kind, t, nu);
+        if (!(v > 0.0) || !std::isfinite(v)) fail(GFMD_ERR_RANGE, "f(t) over- or underflows");  // fuzz finding
+        *f = v;
+    });
 }
 
 int32_t gfmd_set_heights(gfmd_sim *s, const double *h) {
@@ -275,7 +247,7 @@ int32_t gfmd_set_threads(gfmd_sim *s, int32_t nthreads) {
 int32_t gfmd_get_threads(const gfmd_sim *s, int32_t *nthreads) {
     return guarded(s, [&](const gfmd::Simulation &m) {
         need(nthreads, "nthreads");
-        *nthreads = m.threads();
+        *nthreads = m.grid().threads();
     });
 }
 
@@ -295,8 +267,8 @@ int32_t gfmd_export_wisdom(const char *path) {
 
 int32_t gfmd_get_dynamics(const gfmd_sim *s, double *dt, double *eta) {
     return guarded(s, [&](const gfmd::Simulation &m) {
-        if (dt) *dt = m.timestep();
-        if (eta) *eta = m.damping();
+        if (dt) *dt = m.dynamics().dt;
+        if (eta) *eta = m.dynamics().eta;
     });
 }
 
@@ -305,6 +277,10 @@ int32_t gfmd_step(gfmd_sim *s, int64_t nsteps) {
         if (nsteps < 0) fail(GFMD_ERR_INVALID_ARG, "nsteps must be >= 0, got " + std::to_string(nsteps));
         m.step(nsteps);
     });
+}
+
+int32_t gfmd_restart_solver(gfmd_sim *s) {
+    return guarded(s, [&](gfmd::Simulation &m) { m.restart_solver(); });
 }
 
 int32_t gfmd_relax(gfmd_sim *s, double tol, int64_t max_steps, int64_t *steps_taken) {
@@ -318,7 +294,7 @@ int32_t gfmd_relax(gfmd_sim *s, double tol, int64_t max_steps, int64_t *steps_ta
         if (!ok) {
             char buf[160];
             std::snprintf(buf, sizeof buf, "not converged after %lld steps: residual %.3e > tol %.3e",
-                          static_cast<long long>(taken), m.residual(), t);
+                          static_cast<long long>(taken), m.forces().residual, t);
             fail(GFMD_ERR_NOT_CONVERGED, buf);
         }
     });
@@ -327,7 +303,7 @@ int32_t gfmd_relax(gfmd_sim *s, double tol, int64_t max_steps, int64_t *steps_ta
 int32_t gfmd_get_residual(const gfmd_sim *s, double *residual) {
     return guarded(s, [&](const gfmd::Simulation &m) {
         need(residual, "residual");
-        *residual = m.residual();
+        *residual = m.forces().residual;
     });
 }
 
@@ -353,8 +329,8 @@ int32_t gfmd_get_energies(const gfmd_sim *s, double *elastic, double *adhesive) 
     return guarded(s, [&](const gfmd::Simulation &m) {
         need(elastic, "elastic");
         need(adhesive, "adhesive");
-        *elastic = m.elastic_energy();
-        *adhesive = m.adhesive_energy();
+        *elastic = m.forces().u_el;
+        *adhesive = m.forces().u_ad;
     });
 }
 
@@ -389,13 +365,7 @@ int32_t gfmd_persson_variance(const gfmd_sim *s, double *variance) {
 int32_t gfmd_persson_contact_area(const gfmd_sim *s, double sigma0, double *rel_area) {
     return guarded(s, [&](const gfmd::Simulation &m) {
         need(rel_area, "rel_area");
-        if (!std::isfinite(sigma0) || sigma0 < 0.0)
-            fail(GFMD_ERR_INVALID_ARG, "sigma0 must be finite and >= 0, got " + std::to_string(sigma0));
-        const double v = m.persson_variance();
-        if (v > 0.0)
-            *rel_area = std::erf(sigma0 / std::sqrt(2.0 * v));
-        else
-            *rel_area = (sigma0 > 0.0) ? 1.0 : 0.0;  // flat substrate: full contact under any load
+        *rel_area = m.persson_contact_area(sigma0);
     });
 }
 

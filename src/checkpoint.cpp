@@ -1,21 +1,26 @@
 // Checkpoint and restart: a simulation's complete state in a portable, versioned binary file.
 //
-// Format version 1, every number little-endian whatever the machine:
+// Format version 2, every number little-endian whatever the machine:
 //   "GFMDCKPT"                      8 bytes, magic
-//   u32 version = 1, u32 flags = 0
+//   u32 version = 2, u32 flags = 0 (no flags are defined: others are refused)
 //   i64 nx, ny; f64 lx, ly
-//   f64 e_star; i32 kind; f64 width, nu, sigma0, gamma0, rho, dt_user, eta_user
-//   i32 solver, threads (informative; not restored), planner
-//   f64 fire_dt, fire_alpha; i64 fire_positive
+//   the parameters in the order of GFMD_PARAMS_LIST (params.hpp): f64 e_star; i32 kind;
+//     f64 width, nu, sigma0, gamma0, rho, dt_user, eta_user; i32 solver
+//   i32 threads (informative; not restored), planner
+//   u32 count, f64 solver_state[count]  (the solver's adaptive state: FIRE's dt, alpha, count)
 //   f64 h[nx*ny], z[nx*ny], v[nx*ny]    (x fastest)
 //   u64 FNV-1a hash of every byte before it
-// Readers refuse other magics, versions they do not know, truncation and hash mismatches.
+// Version 1 (read, not written) had f64 fire_dt, fire_alpha; i64 fire_positive in place of the
+// solver state.  Readers refuse other magics, versions they do not know, unknown flags, a length
+// other than the header implies (before allocating anything), and hash mismatches.
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <limits>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "error.hpp"
 #include "simulation.hpp"
@@ -25,7 +30,8 @@ namespace gfmd {
 namespace {
 
 constexpr char kMagic[8] = {'G', 'F', 'M', 'D', 'C', 'K', 'P', 'T'};
-constexpr uint32_t kVersion = 1;
+constexpr uint32_t kVersion = 2;
+constexpr uint32_t kMaxSolverState = 64;  // numbers of a solver's state; more is a corrupted file
 
 struct File {
     std::FILE *f = nullptr;
@@ -59,6 +65,8 @@ public:
         std::memcpy(&u, &x, 8);
         u64(u);
     }
+    void put(double x) { f64(x); }
+    void put(int32_t x) { i32(x); }
     void array(const double *a, int64_t n) {
         // In blocks, so that a 4096^2 field needs no second copy in memory.
         unsigned char buf[8 * 1024];
@@ -111,6 +119,8 @@ public:
         std::memcpy(&x, &u, 8);
         return x;
     }
+    void get(double &x) { x = f64(); }
+    void get(int32_t &x) { x = i32(); }
     void array(double *a, int64_t n) {
         unsigned char buf[8 * 1024];
         for (int64_t i = 0; i < n;) {
@@ -136,112 +146,128 @@ private:
 void Simulation::save(const char *path) const {
     const std::string p(path);
     // Write to a temporary name, then rename: a crash while saving never leaves a damaged
-    // checkpoint under the final name.
+    // checkpoint under the final name, and a failed save leaves no temporary file behind.
     const std::string tmp = p + ".tmp";
     File file;
     file.f = std::fopen(tmp.c_str(), "wb");
     if (file.f == nullptr) fail(GFMD_ERR_IO, "cannot create '" + tmp + "'");
-    Writer w(file.f, tmp);
-    w.bytes(kMagic, 8);
-    w.u32(kVersion);
-    w.u32(0);
-    w.i64(grid_.nx());
-    w.i64(grid_.ny());
-    w.f64(grid_.lx());
-    w.f64(grid_.ly());
-    w.f64(e_star_);
-    w.i32(kind_);
-    w.f64(width_);
-    w.f64(nu_);
-    w.f64(sigma0_);
-    w.f64(gamma0_);
-    w.f64(rho_);
-    w.f64(dt_user_);
-    w.f64(eta_user_);
-    w.i32(solver_);
-    w.i32(threads_);
-    w.i32(planner_);
-    w.f64(fire_dt_);
-    w.f64(fire_alpha_);
-    w.i64(fire_positive_);
-    w.array(h_.data(), n_);
-    w.array(z_.data(), n_);
-    w.array(v_.data(), n_);
-    w.u64(w.hash());
-    const bool ok = std::fflush(file.f) == 0 && std::fclose(file.f) == 0;
-    file.f = nullptr;
-    if (!ok || std::rename(tmp.c_str(), path) != 0) {
+    try {
+        Writer w(file.f, tmp);
+        w.bytes(kMagic, 8);
+        w.u32(kVersion);
+        w.u32(0);
+        w.i64(grid_.nx());
+        w.i64(grid_.ny());
+        w.f64(grid_.lx());
+        w.f64(grid_.ly());
+#define GFMD_PARAM_WRITE(type, name, value) w.put(params_.name);
+        GFMD_PARAMS_LIST(GFMD_PARAM_WRITE)
+#undef GFMD_PARAM_WRITE
+        w.i32(grid_.threads());
+        w.i32(grid_.planner());
+        const std::vector<double> state = solver_->state();
+        w.u32(static_cast<uint32_t>(state.size()));
+        for (double x : state) w.f64(x);
+        w.array(fields_.h.data(), grid_.local_points());
+        w.array(fields_.z.data(), grid_.local_points());
+        w.array(fields_.v.data(), grid_.local_points());
+        w.u64(w.hash());
+        const bool flushed = std::fflush(file.f) == 0;
+        std::FILE *f = std::exchange(file.f, nullptr);
+        const bool closed = std::fclose(f) == 0;
+        if (!flushed || !closed || std::rename(tmp.c_str(), path) != 0) fail(GFMD_ERR_IO, "cannot write '" + p + "'");
+    } catch (...) {
+        if (std::FILE *f = std::exchange(file.f, nullptr)) std::fclose(f);
         std::remove(tmp.c_str());
-        fail(GFMD_ERR_IO, "cannot write '" + p + "'");
+        throw;
     }
 }
 
-std::unique_ptr<Simulation> Simulation::load(const char *path, bool (*fits)(int64_t, int64_t)) {
+std::unique_ptr<Simulation> Simulation::load(const char *path) {
     const std::string p(path);
     File file;
     file.f = std::fopen(path, "rb");
     if (file.f == nullptr) fail(GFMD_ERR_IO, "cannot open '" + p + "'");
+    if (std::fseek(file.f, 0, SEEK_END) != 0) fail(GFMD_ERR_IO, "cannot read '" + p + "'");
+    const long file_size = std::ftell(file.f);
+    if (file_size < 0 || std::fseek(file.f, 0, SEEK_SET) != 0) fail(GFMD_ERR_IO, "cannot read '" + p + "'");
     Reader r(file.f, p);
     char magic[8];
     r.bytes(magic, 8);
     if (std::memcmp(magic, kMagic, 8) != 0) fail(GFMD_ERR_FORMAT, "'" + p + "' is not a gfmd checkpoint");
     const uint32_t version = r.u32();
-    if (version != kVersion)
+    if (version != 1 && version != kVersion)
         fail(GFMD_ERR_VERSION, "'" + p + "' is a checkpoint of format version " + std::to_string(version) +
-                                   "; this library reads version " + std::to_string(kVersion));
-    r.u32();  // flags, none defined
+                                   "; this library reads versions 1 and " + std::to_string(kVersion));
+    const uint32_t flags = r.u32();
+    if (flags != 0) fail(GFMD_ERR_FORMAT, "'" + p + "' has unknown flags " + std::to_string(flags) + ": corrupted");
     const int64_t nx = r.i64(), ny = r.i64();
     const double lx = r.f64(), ly = r.f64();
-    if (nx <= 0 || ny <= 0 || nx > (INT64_C(1) << 30) || ny > (INT64_C(1) << 30) || !(lx >= kMinLength) ||
-        !(lx <= kMaxLength) || !(ly >= kMinLength) || !(ly <= kMaxLength))
-        fail(GFMD_ERR_FORMAT, "'" + p + "' has an impossible grid: corrupted");
-    if (!fits(nx, ny)) fail(GFMD_ERR_NOMEM, "the grid of '" + p + "' does not fit in physical memory");
-    const double e_star = r.f64();
-    const int32_t kind = r.i32();
-    const double width = r.f64(), nu = r.f64(), sigma0 = r.f64(), gamma0 = r.f64(), rho = r.f64();
-    const double dt_user = r.f64(), eta_user = r.f64();
-    const int32_t solver = r.i32();
+    try {
+        validate_grid(nx, ny, lx, ly);
+    } catch (const Error &e) {
+        fail(GFMD_ERR_FORMAT, "'" + p + "' has an impossible grid: " + e.what());
+    }
+    Params params;
+#define GFMD_PARAM_READ(type, name, value) r.get(params.name);
+    GFMD_PARAMS_LIST(GFMD_PARAM_READ)
+#undef GFMD_PARAM_READ
     r.i32();  // threads: recorded for information; the loading process keeps its own default
     const int32_t planner = r.i32();
-    const double fire_dt = r.f64(), fire_alpha = r.f64();
-    const int64_t fire_positive = r.i64();
-    if (planner != GFMD_PLANNER_ESTIMATE && planner != GFMD_PLANNER_MEASURE && planner != GFMD_PLANNER_PATIENT)
+    std::vector<double> state;
+    if (version == 1) {
+        state.push_back(r.f64());
+        state.push_back(r.f64());
+        state.push_back(static_cast<double>(r.i64()));
+    } else {
+        const uint32_t count = r.u32();
+        if (count > kMaxSolverState) fail(GFMD_ERR_FORMAT, "'" + p + "' holds an impossible solver state: corrupted");
+        for (uint32_t i = 0; i < count; ++i) state.push_back(r.f64());
+    }
+    // The length the header implies, checked before anything is allocated or planned: a small
+    // or damaged file that claims a huge grid is refused at once.
+    const double fields_bytes = 3.0 * 8.0 * static_cast<double>(nx) * static_cast<double>(ny);
+    const double expected = static_cast<double>(std::ftell(file.f)) + fields_bytes + 8.0;
+    if (expected != static_cast<double>(file_size))
+        fail(GFMD_ERR_FORMAT, "'" + p + "' has " + std::to_string(file_size) + " bytes; its header (" +
+                                  std::to_string(nx) + " x " + std::to_string(ny) + ") implies " +
+                                  std::to_string(static_cast<long long>(expected)) + ": truncated or corrupted");
+    try {
+        validate_planner(planner);
+    } catch (const Error &e) {
         fail(GFMD_ERR_FORMAT, "'" + p + "' holds an unknown FFT planner");
-    auto s = std::unique_ptr<Simulation>(new Simulation(nx, ny, lx, ly, 0, planner));
-    r.array(s->h_.data(), s->n_);
-    r.array(s->z_.data(), s->n_);
-    r.array(s->v_.data(), s->n_);
+    }
+    auto s = std::make_unique<Simulation>(nx, ny, lx, ly, 0, planner);
+    const int64_t n = s->grid_.local_points();
+    Fields &fl = s->fields_;
+    r.array(fl.h.data(), n);
+    r.array(fl.z.data(), n);
+    r.array(fl.v.data(), n);
     const uint64_t computed = r.hash();
     const uint64_t stored = r.u64();
     if (stored != computed) fail(GFMD_ERR_FORMAT, "'" + p + "' is corrupted: its checksum does not match");
-    char extra;
-    if (std::fread(&extra, 1, 1, file.f) != 0) fail(GFMD_ERR_FORMAT, "'" + p + "' has data after its end");
 
     // The checksum guards against damage; the setters also check every value, as for a user's
     // call, so that even a forged file cannot put the simulation in an invalid state.  What they
     // refuse is a property of the file: GFMD_ERR_FORMAT.
-    for (int64_t i = 0; i < s->n_; ++i)
-        if (!std::isfinite(s->h_[i]) || std::fabs(s->h_[i]) > kMaxHeight || !std::isfinite(s->z_[i]) ||
-            !std::isfinite(s->v_[i]) || s->z_[i] < s->h_[i])
+    for (int64_t i = 0; i < n; ++i)
+        if (!std::isfinite(fl.h[i]) || std::fabs(fl.h[i]) > kMaxHeight || !std::isfinite(fl.z[i]) ||
+            !std::isfinite(fl.v[i]) || fl.z[i] < fl.h[i])
             fail(GFMD_ERR_FORMAT, "'" + p + "' holds invalid fields");
     try {
-        if (!std::isnan(nu)) s->set_poisson(nu);
-        s->set_modulus(e_star);
-        s->set_green(kind, width);
-        s->set_adhesion(gamma0, rho);
-        s->set_pressure(sigma0);
-        s->set_timestep(dt_user);
-        s->set_damping(eta_user);
-        s->set_solver(solver);
+        if (!std::isnan(params.nu)) s->set_poisson(params.nu);
+        s->set_modulus(params.e_star);
+        s->set_green(params.kind, params.width);
+        s->set_adhesion(params.gamma0, params.rho);
+        s->set_pressure(params.sigma0);
+        s->set_timestep(params.dt_user);
+        s->set_damping(params.eta_user);
+        s->set_solver(params.solver);
+        s->solver_->set_state(state);
     } catch (const Error &e) {
-        fail(GFMD_ERR_FORMAT, "'" + p + "' holds invalid parameters: " + e.what());
+        fail(GFMD_ERR_FORMAT, "'" + p + "' holds invalid parameters or solver state: " + e.what());
     }
-    if (!(fire_dt >= 0.0) || !(fire_alpha >= 0.0) || fire_positive < 0)
-        fail(GFMD_ERR_FORMAT, "'" + p + "' holds an invalid solver state");
-    s->fire_dt_ = fire_dt;
-    s->fire_alpha_ = fire_alpha;
-    s->fire_positive_ = fire_positive;
-    s->evaluate_forces();
+    s->refresh_forces();
     return s;
 }
 

@@ -1,8 +1,12 @@
 #include "fft_grid.hpp"
 
+#include <omp.h>
+
+#include <algorithm>
 #include <climits>
 #include <mutex>
 #include <new>
+#include <string>
 
 #include "error.hpp"
 #include "gfmd.h"
@@ -32,6 +36,30 @@ unsigned planner_flags(int32_t planner) {
     }
 }
 
+void validate_planner(int32_t planner) {
+    if (planner != GFMD_PLANNER_ESTIMATE && planner != GFMD_PLANNER_MEASURE && planner != GFMD_PLANNER_PATIENT)
+        fail(GFMD_ERR_BAD_ENUM, "unknown FFT planner " + std::to_string(planner));
+}
+
+int resolve_threads(int threads) {
+    if (threads < 0 || threads > kMaxThreads)
+        fail(GFMD_ERR_INVALID_ARG, "threads must be in [0, " + std::to_string(kMaxThreads) +
+                                       "] (0 = all cores), got " + std::to_string(threads));
+    if (threads > 0) return threads;
+    // "All cores": the machine's cores, unless the user limited OpenMP (OMP_NUM_THREADS), e.g. to
+    // run one process per core.
+    const int n = omp_get_max_threads();
+    return n > 0 ? n : 1;
+}
+
+void validate_grid(int64_t nx, int64_t ny, double lx, double ly) {
+    if (nx <= 0 || ny <= 0 || nx > kMaxGridDimension || ny > kMaxGridDimension)
+        fail(GFMD_ERR_INVALID_ARG, "grid sizes must be in [1, 2^30], got " + std::to_string(nx) + " x " +
+                                       std::to_string(ny));
+    if (!(lx >= kMinLength && lx <= kMaxLength && ly >= kMinLength && ly <= kMaxLength))  // also NaN
+        fail(GFMD_ERR_INVALID_ARG, "cell lengths must be finite and within [1e-100, 1e100]");
+}
+
 bool import_wisdom(const char *path) {
     std::lock_guard<std::mutex> lock(planner_mutex());
     return fftw_import_wisdom_from_filename(path) != 0;
@@ -43,9 +71,13 @@ bool export_wisdom(const char *path) {
 }
 
 FftGrid::FftGrid(int64_t nx, int64_t ny, double lx, double ly, int threads, int32_t planner)
-    : nx_(nx), ny_(ny), lx_(lx), ly_(ly) {
+    : nx_((validate_grid(nx, ny, lx, ly), nx)), ny_(ny), lx_(lx), ly_(ly), threads_(resolve_threads(threads)),
+      planner_((validate_planner(planner), planner)), rows_per_block_(std::max<int64_t>(1, kBlock / (nx / 2 + 1))) {
     if (nx > INT_MAX || ny > INT_MAX) fail(GFMD_ERR_INVALID_ARG, "grid dimension exceeds FFTW's int range");
-    make_plans(threads, planner, r2c_, c2r_);
+    // Enough partial sums for the largest reduction: 6 sums per block of points or of mode rows.
+    sums_ = RealBuffer(static_cast<std::size_t>(
+        6 * std::max(block_count(local_points(), kBlock), block_count(local_mode_rows(), rows_per_block_))));
+    make_plans(threads_, planner_, r2c_, c2r_);
 }
 
 void FftGrid::make_plans(int threads, int32_t planner, fftw_plan &r2c, fftw_plan &c2r) const {
@@ -70,8 +102,12 @@ void FftGrid::make_plans(int threads, int32_t planner, fftw_plan &r2c, fftw_plan
 }
 
 void FftGrid::replan(int threads, int32_t planner) {
+    const int t = resolve_threads(threads);
+    validate_planner(planner);
     fftw_plan r2c = nullptr, c2r = nullptr;
-    make_plans(threads, planner, r2c, c2r);
+    make_plans(t, planner, r2c, c2r);
+    threads_ = t;
+    planner_ = planner;
     std::lock_guard<std::mutex> lock(planner_mutex());
     fftw_destroy_plan(r2c_);
     fftw_destroy_plan(c2r_);

@@ -1,21 +1,31 @@
 // The grid and its FFT plumbing: the one internal interface behind which the layout of the
-// periodic nx x ny grid and its real-to-complex transforms live.  A distributed version (FFTW MPI,
-// one slab of rows per rank) replaces this class without touching the solver or the C API: the
-// solver only sees local real/complex extents, wave vectors and the sum weights below.
+// periodic nx x ny grid, its real-to-complex transforms and its threads live.  A distributed
+// version (FFTW MPI, one slab of rows per rank, real rows padded to 2*(nx/2+1)) replaces this class
+// without touching the solvers or the C API: they loop only through the grid's local extents
+// (for_points, sum_points, the mode rows) and every global sum ends in the grid's one reduction
+// call, reduce().
 #ifndef GFMD_SRC_FFT_GRID_HPP
 #define GFMD_SRC_FFT_GRID_HPP
 
 #include <fftw3.h>
 
+#include <array>
 #include <complex>
 #include <cstdint>
 
 #include "buffer.hpp"
+#include "constants.hpp"
+#include "parallel.hpp"
 
 namespace gfmd {
 
-// FFTW planner rigour for the GFMD_PLANNER_* codes.
+// FFTW planner rigour for the GFMD_PLANNER_* codes; validate_planner throws GFMD_ERR_BAD_ENUM.
 unsigned planner_flags(int32_t planner);
+void validate_planner(int32_t planner);
+// Threads 0 = the default (all the process may use); throws GFMD_ERR_INVALID_ARG out of range.
+int resolve_threads(int threads);
+// Throws GFMD_ERR_INVALID_ARG for sizes or lengths a grid cannot have.
+void validate_grid(int64_t nx, int64_t ny, double lx, double ly);
 
 // FFTW wisdom, process-wide (FFTW's own state), serialized with planning.  Return false on failure.
 bool import_wisdom(const char *path);
@@ -23,7 +33,8 @@ bool export_wisdom(const char *path);
 
 class FftGrid {
 public:
-    // threads: threads of the transforms (small grids use one); planner: GFMD_PLANNER_*.
+    // threads: threads of the loops and transforms (small grids transform on one), 0 = default;
+    // planner: GFMD_PLANNER_*.  Plans once.
     FftGrid(int64_t nx, int64_t ny, double lx, double ly, int threads, int32_t planner);
     FftGrid(const FftGrid &) = delete;
     FftGrid &operator=(const FftGrid &) = delete;
@@ -37,12 +48,47 @@ public:
     int64_t nxh() const { return nx_ / 2 + 1; }          // complex columns (Hermitian half)
     int64_t complex_size() const { return ny_ * nxh(); }  // complex points
     double cell_area() const { return lx_ * ly_; }
+    double area_per_point() const { return lx_ * ly_ / static_cast<double>(nx_ * ny_); }
+    int threads() const { return threads_; }
+    int32_t planner() const { return planner_; }
+
+    // Local extents.  Real space: the points this process owns, local_points() of them, rows of
+    // row_stride() values from global row first_row().  Fourier space: local_mode_rows() rows of
+    // nxh() modes (ky = first_mode_row() + r).  Serial: everything, unpadded.
+    int64_t local_points() const { return nx_ * ny_; }
+    int64_t first_row() const { return 0; }
+    int64_t row_stride() const { return nx_; }
+    int64_t local_mode_rows() const { return ny_; }
+    int64_t first_mode_row() const { return 0; }
+
+    // body(i0, i1) over the local points [0, local_points()) in fixed blocks, threaded.
+    template <class Body>
+    void for_points(Body &&body) const {
+        parallel_for(threads_, local_points(), kBlock, body);
+    }
+    // K global sums: body(i0, i1, acc) over local points, or body(r0, r1, acc) over local mode rows,
+    // adds its block's terms to acc.  Fixed blocks, added in order, then reduce(): the result does
+    // not depend on the thread count.
+    template <int K, class Body>
+    std::array<double, K> sum_points(Body &&body) const {
+        auto s = parallel_sums<K>(threads_, local_points(), kBlock, sums_.data(), body);
+        reduce(s.data(), K);
+        return s;
+    }
+    template <int K, class Body>
+    std::array<double, K> sum_mode_rows(Body &&body) const {
+        auto s = parallel_sums<K>(threads_, local_mode_rows(), rows_per_block_, sums_.data(), body);
+        reduce(s.data(), K);
+        return s;
+    }
+    // The one global reduction: sums x[0..k) over all processes (serial: nothing to do).
+    void reduce(double *, int) const {}
 
     // Wave vector components of complex index (kx, ky), kx in [0, nxh), ky in [0, ny).
-    double qx(int64_t kx) const { return 2.0 * 3.14159265358979323846 * static_cast<double>(kx) / lx_; }
+    double qx(int64_t kx) const { return 2.0 * kPi * static_cast<double>(kx) / lx_; }
     double qy(int64_t ky) const {
         const int64_t k = (2 * ky > ny_) ? ky - ny_ : ky;
-        return 2.0 * 3.14159265358979323846 * static_cast<double>(k) / ly_;
+        return 2.0 * kPi * static_cast<double>(k) / ly_;
     }
     // Multiplicity of column kx in a full-plane sum over the Hermitian half.
     double weight(int64_t kx) const { return (kx == 0 || 2 * kx == nx_) ? 1.0 : 2.0; }
@@ -54,13 +100,18 @@ public:
     void forward(const double *in, std::complex<double> *out) const;
     void backward(std::complex<double> *in, double *out) const;
 
-    // New plans for another thread count or planner; the old ones stay if planning fails.
+    // New plans for another thread count (0 = default) or planner; nothing changes if planning
+    // fails.
     void replan(int threads, int32_t planner);
 
 private:
     void make_plans(int threads, int32_t planner, fftw_plan &r2c, fftw_plan &c2r) const;
     int64_t nx_, ny_;
     double lx_, ly_;
+    int threads_;
+    int32_t planner_;
+    int64_t rows_per_block_;
+    mutable RealBuffer sums_;  // per-block partial sums of the threaded reductions (no allocation per sum)
     fftw_plan r2c_ = nullptr;
     fftw_plan c2r_ = nullptr;
 };

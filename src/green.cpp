@@ -1,8 +1,12 @@
 #include "green.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <string>
 
+#include "error.hpp"
 #include "gfmd.h"
 
 namespace gfmd {
@@ -89,6 +93,51 @@ double green_factor(int32_t kind, double t, double nu) {
     parts(kind, t, nu, num, den);
     if (den == 0.0) return std::numeric_limits<double>::infinity();
     return num / den;
+}
+
+void validate_green_kind(int32_t kind) {
+    if (kind != GFMD_GREEN_HALFSPACE && kind != GFMD_GREEN_LAYER_FLUID && kind != GFMD_GREEN_LAYER_BONDED)
+        fail(GFMD_ERR_BAD_ENUM, "unknown Green's function kind " + std::to_string(kind));
+}
+
+void validate_poisson(double nu) {
+    if (!std::isfinite(nu) || nu <= -1.0 || nu > 0.5)
+        fail(GFMD_ERR_INVALID_ARG, "Poisson's ratio must be finite and in (-1, 0.5], got " + std::to_string(nu));
+}
+
+Body make_body(const FftGrid &grid, int32_t kind, double width, double e_star, double nu) {
+    Body b;
+    b.stiffness = RealBuffer(static_cast<std::size_t>(grid.local_mode_rows() * grid.nxh()));
+    const int64_t nxh = grid.nxh();
+    for (int64_t r = 0; r < grid.local_mode_rows(); ++r) {
+        const double qy = grid.qy(grid.first_mode_row() + r);
+        for (int64_t kx = 0; kx < nxh; ++kx) {
+            const double qx = grid.qx(kx);
+            const double q = std::sqrt(qx * qx + qy * qy);
+            double kq = 0.0;  // the uniform mode has no elastic stiffness: force balance sets it
+            if (q > 0.0) {
+                const double g = (kind == GFMD_GREEN_HALFSPACE) ? 1.0 : green_inverse_factor(kind, q * width, nu);
+                kq = 0.5 * q * e_star * g;  // 1/G(q) = q E* / (2 f(q w)), the seed paper's Eq. 2
+                if (!std::isfinite(kq)) {
+                    char t[32];
+                    std::snprintf(t, sizeof t, "%.6g", q * width);
+                    fail(GFMD_ERR_RANGE, std::string("the stiffness 1/G(q) overflows at q w = ") + t +
+                                             ": the layer is too thin or too stiff for this grid");
+                }
+            }
+            b.stiffness[static_cast<std::size_t>(r * nxh + kx)] = kq;
+        }
+    }
+    b.k_min = std::numeric_limits<double>::infinity();
+    for (std::size_t c = 0; c < b.stiffness.size(); ++c) {
+        if (b.stiffness[c] > 0.0) b.k_min = std::min(b.k_min, b.stiffness[c]);
+        b.k_max = std::max(b.k_max, b.stiffness[c]);
+    }
+    if (b.k_max == 0.0) {  // a single grid point, or every mode underflowed: use the cell's scale
+        b.k_max = e_star * kPi / std::sqrt(grid.cell_area());
+        b.k_min = b.k_max;
+    }
+    return b;
 }
 
 }  // namespace gfmd

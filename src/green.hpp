@@ -4,7 +4,23 @@
 
 #include <cstdint>
 
+#include "buffer.hpp"
+#include "fft_grid.hpp"
+
 namespace gfmd {
+
+// Throw GFMD_ERR_BAD_ENUM / GFMD_ERR_INVALID_ARG for a kind or Poisson's ratio no body can have.
+void validate_green_kind(int32_t kind);
+void validate_poisson(double nu);
+
+// The elastic body on a grid: the stiffness 1/G(q) = q E* / (2 f(q w)) of every mode of the local
+// Hermitian half-spectrum (0 for q = 0, whose force balance the load sets), and its extremes over
+// the modes with a stiffness.  make_body throws GFMD_ERR_RANGE if a stiffness overflows.
+struct Body {
+    RealBuffer stiffness;
+    double k_min = 0.0, k_max = 0.0;
+};
+Body make_body(const FftGrid &grid, int32_t kind, double width, double e_star, double nu);
 
 // 1/f(t) for a kind of body (GFMD_GREEN_*), t = q w > 0, nu used by the bonded layer only.
 // Finite and >= 0 for every finite t > 0; the mode stiffness is q E* / 2 * inverse_factor.

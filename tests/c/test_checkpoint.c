@@ -101,7 +101,9 @@ static void damaged_files_are_refused(void **state) {
     TS_OK(a, gfmd_sim_save(a, PATH));
     gfmd_sim_destroy(&a);
     const long n = file_size(PATH);
-    assert_int_equal(n, 8 + 8 + 32 + 8 + 4 + 7 * 8 + 12 + 24 + 3 * 8 * NX * NY + 8);
+    /* format 2: magic, version + flags, grid, 8 f64 + 2 i32 parameters, threads + planner, the
+     * solver state (count + FIRE's 3 numbers), three fields, hash */
+    assert_int_equal(n, 8 + 8 + 32 + 8 * 8 + 2 * 4 + 8 + 4 + 3 * 8 + 3 * 8 * NX * NY + 8);
 
     const long cuts[] = {0, 5, 12, 100, n / 2, n - 1};
     for (int i = 0; i < 6; ++i) {
@@ -113,8 +115,8 @@ static void damaged_files_are_refused(void **state) {
         rewrite(PATH, -1, flips[i], NULL, 0, 0);
         expect_refused(GFMD_ERR_FORMAT, "corrupted");
     }
-    const unsigned char v2[4] = {2, 0, 0, 0};
-    rewrite(PATH, -1, -1, v2, 4, 8);
+    const unsigned char v3[4] = {3, 0, 0, 0};
+    rewrite(PATH, -1, -1, v3, 4, 8);
     expect_refused(GFMD_ERR_VERSION, "another version");
     const unsigned char junk[8] = {'P', 'K', 3, 4, 0, 0, 0, 0};
     rewrite(PATH, -1, -1, junk, 8, 0);
@@ -134,10 +136,111 @@ static void damaged_files_are_refused(void **state) {
     remove("damaged.gfmd");
 }
 
+/* Layout of a format-2 file (see src/checkpoint.cpp): offsets of the flags, grid, solver state. */
+enum { OFF_VERSION = 8, OFF_FLAGS = 12, OFF_NX = 16, OFF_COUNT = 128, OFF_STATE = 132, OFF_FIELDS = 156 };
+
+static unsigned char *read_all(const char *path, long *n) {
+    *n = file_size(path);
+    unsigned char *buf = malloc((size_t)*n);
+    FILE *f = fopen(path, "rb");
+    assert_non_null(f);
+    assert_int_equal(fread(buf, 1, (size_t)*n, f), (size_t)*n);
+    fclose(f);
+    return buf;
+}
+
+/* Write buf[0..n) to path with a fresh FNV-1a hash in its last 8 bytes (little-endian), as a
+ * forger or an older library would. */
+static void write_rehashed(const char *path, unsigned char *buf, long n) {
+    uint64_t h = 0xcbf29ce484222325ULL;
+    for (long i = 0; i < n - 8; ++i) h = (h ^ buf[i]) * 0x100000001b3ULL;
+    for (int k = 0; k < 8; ++k) buf[n - 8 + k] = (unsigned char)(h >> (8 * k));
+    FILE *f = fopen(path, "wb");
+    assert_int_equal(fwrite(buf, 1, (size_t)n, f), (size_t)n);
+    fclose(f);
+}
+
+/* A format-1 file (FIRE's dt, alpha as f64 and its count as i64, no count of numbers) made from a
+ * format-2 one loads and resumes the run bit for bit: files of the earlier library stay usable. */
+static void format1_files_resume(void **state) {
+    (void)state;
+    for (int32_t solver = GFMD_SOLVER_VERLET; solver <= GFMD_SOLVER_FIRE_MASS; ++solver) {
+        gfmd_sim *a = make(solver), *b = NULL;
+        TS_OK(a, gfmd_step(a, 37));
+        TS_OK(a, gfmd_sim_save(a, PATH));
+        long n = 0;
+        unsigned char *v2 = read_all(PATH, &n);
+        uint32_t count = v2[OFF_COUNT];
+        double st[3] = {0.0, 0.0, 0.0};
+        if (count == 3) memcpy(st, v2 + OFF_STATE, sizeof st); /* little-endian machine (x86_64) */
+        const long n1 = n - 4 - 8 * (long)count + 24;
+        unsigned char *v1 = malloc((size_t)n1);
+        memcpy(v1, v2, OFF_COUNT);
+        v1[OFF_VERSION] = 1;
+        const int64_t positive = (int64_t)st[2];
+        memcpy(v1 + OFF_COUNT, st, 16);
+        memcpy(v1 + OFF_COUNT + 16, &positive, 8);
+        memcpy(v1 + OFF_COUNT + 24, v2 + OFF_STATE + 8 * count, (size_t)(n - OFF_STATE - 8 * (long)count));
+        write_rehashed("format1.gfmd", v1, n1);
+        char msg[256] = "";
+        int32_t st_load = gfmd_sim_load("format1.gfmd", &b, msg, sizeof msg);
+        if (st_load != GFMD_OK) fail_msg("format 1: %s", msg);
+        TS_OK(a, gfmd_step(a, 50));
+        TS_OK(b, gfmd_step(b, 50));
+        double za[NX * NY], pa[NX * NY], zb[NX * NY], pb[NX * NY];
+        fields(a, za, pa);
+        fields(b, zb, pb);
+        assert_memory_equal(za, zb, sizeof za);
+        free(v1);
+        free(v2);
+        gfmd_sim_destroy(&a);
+        gfmd_sim_destroy(&b);
+    }
+    remove("format1.gfmd");
+    remove(PATH);
+}
+
+/* Files with a valid checksum that are still wrong: unknown flags, and a small file whose header
+ * claims a huge grid (refused from its length, before anything is allocated: the message says so). */
+static void forged_headers_are_refused(void **state) {
+    (void)state;
+    gfmd_sim *a = make(GFMD_SOLVER_FIRE);
+    TS_OK(a, gfmd_sim_save(a, PATH));
+    gfmd_sim_destroy(&a);
+    long n = 0;
+    unsigned char *buf = read_all(PATH, &n);
+    buf[OFF_FLAGS] = 1;
+    write_rehashed("damaged.gfmd", buf, n);
+    expect_refused(GFMD_ERR_FORMAT, "unknown flags");
+    buf[OFF_FLAGS] = 0;
+    const int64_t big = 4096;
+    memcpy(buf + OFF_NX, &big, 8);
+    memcpy(buf + OFF_NX + 8, &big, 8);
+    memmove(buf + OFF_FIELDS, buf + n - 8, 8); /* a 164-byte file: header and hash only */
+    write_rehashed("damaged.gfmd", buf, OFF_FIELDS + 8);
+    gfmd_sim *s = NULL;
+    char msg[256] = "";
+    assert_int_equal(gfmd_sim_load("damaged.gfmd", &s, msg, sizeof msg), GFMD_ERR_FORMAT);
+    assert_null(s);
+    assert_non_null(strstr(msg, "implies"));
+    /* the message buffer is always terminated, even when the path is missing */
+    char small[8] = {'x', 'x', 'x', 'x', 'x', 'x', 'x', 'x'};
+    assert_int_equal(gfmd_sim_load(NULL, &s, small, sizeof small), GFMD_ERR_NULL);
+    assert_true(memchr(small, '\0', sizeof small) != NULL);
+    memset(small, 'x', sizeof small);
+    assert_int_equal(gfmd_sim_load("damaged.gfmd", NULL, small, sizeof small), GFMD_ERR_NULL);
+    assert_true(memchr(small, '\0', sizeof small) != NULL);
+    free(buf);
+    remove("damaged.gfmd");
+    remove(PATH);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(restart_is_bit_exact),
         cmocka_unit_test(damaged_files_are_refused),
+        cmocka_unit_test(format1_files_resume),
+        cmocka_unit_test(forged_headers_are_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,0 +1,47 @@
+// The grid-sized arrays of a simulation, each with one role, and the memory they take.
+#ifndef GFMD_SRC_FIELDS_HPP
+#define GFMD_SRC_FIELDS_HPP
+
+#include <cstdint>
+
+#include "buffer.hpp"
+#include "fft_grid.hpp"
+
+namespace gfmd {
+
+// Peak bytes per grid point of a handle, measured by gfmd_bench at 512^2 to 4096^2 (76-82 B/pt:
+// the fields below, the undo snapshot, the stiffness, and FFTW's planning scratch at creation;
+// docs/performance.md).  The memory guard uses the upper end.
+constexpr double kPeakBytesPerPoint = 82.0;
+
+// Throws GFMD_ERR_NOMEM, before anything is allocated, if nx x ny points at kPeakBytesPerPoint do
+// not fit in the memory available now (MemAvailable; physical memory where it is unknown).
+void check_memory(int64_t nx, int64_t ny);
+
+struct Fields {
+    explicit Fields(const FftGrid &grid);
+    RealBuffer h;          // rigid substrate heights
+    RealBuffer z;          // elastic surface, z >= h
+    RealBuffer v;          // velocity of z
+    RealBuffer f;          // force per area on z (elastic + external + adhesive); solvers may reuse it
+                           // within a step (evaluate_forces() rewrites it after every step)
+    ComplexBuffer work;    // FFT scratch, meaningful only inside one computation
+
+    // The body flat at the highest substrate point, at rest.
+    void put_flat_at_rest();
+};
+
+// z and v at the start of a call, to restore them if the call fails half-way (the dynamics
+// diverge, a new substrate overflows).  Kept for the handle's life: 16 B/pt, allocated at creation
+// so that no step or setter allocates grid-sized memory (a NOMEM in the middle of a run) and the
+// peak memory is known when the handle is made.
+struct Snapshot {
+    explicit Snapshot(const FftGrid &grid);
+    void save(const Fields &from);
+    void restore(Fields &to) const;
+    RealBuffer z, v;
+};
+
+}  // namespace gfmd
+
+#endif

@@ -1,0 +1,65 @@
+#include "observables.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <string>
+
+#include "error.hpp"
+
+namespace gfmd {
+
+double contact_area(const FftGrid &grid, const ForceState &forces) {
+    return static_cast<double>(forces.contacts) / static_cast<double>(grid.real_size());
+}
+
+double mean_gap(const FftGrid &grid, const Fields &fields) {
+    const double *z = fields.z.data(), *h = fields.h.data();
+    const auto s = grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
+        double t = 0.0;
+        for (int64_t i = i0; i < i1; ++i) t += z[i] - h[i];
+        acc[0] += t;
+    });
+    return s[0] / static_cast<double>(grid.real_size());
+}
+
+void gap(const Fields &fields, double *out) {
+    for (std::size_t i = 0; i < fields.z.size(); ++i) out[i] = fields.z[i] - fields.h[i];
+}
+
+void pressure(const Params &p, const Fields &fields, double *out) {
+    const double adh_coef = (p.gamma0 > 0.0) ? p.gamma0 / p.rho : 0.0;
+    for (std::size_t i = 0; i < fields.z.size(); ++i) {
+        const double g = fields.z[i] - fields.h[i];
+        const double pull = (adh_coef > 0.0) ? adh_coef * std::exp(-g / p.rho) : 0.0;
+        const double contact = (g <= 0.0) ? std::max(-fields.f[i], 0.0) : 0.0;
+        out[i] = contact - pull;
+    }
+}
+
+double persson_variance(const FftGrid &grid, const Body &body, const Fields &fields) {
+    // In full contact the surface follows the substrate, so the stress modes are sigma(q) =
+    // h(q)/G(q) with h(q) the normalized Fourier coefficients; their variance (q != 0, full plane,
+    // Parseval) is the width of Persson's pressure distribution at full magnification.
+    ComplexBuffer hq(static_cast<std::size_t>(grid.complex_size()));  // not the solver's scratch
+    grid.forward(fields.h.data(), hq.data());
+    const int64_t nxh = grid.nxh();
+    const double inv_n = 1.0 / static_cast<double>(grid.real_size());
+    double v = 0.0;
+    for (int64_t r = 0; r < grid.local_mode_rows(); ++r)
+        for (int64_t kx = 0; kx < nxh; ++kx) {
+            const std::size_t c = static_cast<std::size_t>(r * nxh + kx);
+            const double s = body.stiffness[c] * (std::abs(hq[c]) * inv_n);  // scaled first: no overflow
+            v += grid.weight(kx) * s * s;
+        }
+    grid.reduce(&v, 1);
+    if (!std::isfinite(v)) fail(GFMD_ERR_RANGE, "the full-contact pressure variance overflows double precision");
+    return v;
+}
+
+double persson_contact_area(double variance, double sigma0) {
+    if (variance > 0.0) return std::erf(sigma0 / std::sqrt(2.0 * variance));
+    return (sigma0 > 0.0) ? 1.0 : 0.0;  // flat substrate: full contact under any load
+}
+
+}  // namespace gfmd

@@ -1,0 +1,29 @@
+// Observables of a configuration, and Persson's theory for the same substrate and body.
+#ifndef GFMD_SRC_OBSERVABLES_HPP
+#define GFMD_SRC_OBSERVABLES_HPP
+
+#include "fft_grid.hpp"
+#include "fields.hpp"
+#include "forces.hpp"
+#include "green.hpp"
+#include "params.hpp"
+
+namespace gfmd {
+
+// A/A0 from the contact count of the last force evaluation.
+double contact_area(const FftGrid &grid, const ForceState &forces);
+double mean_gap(const FftGrid &grid, const Fields &fields);
+void gap(const Fields &fields, double *out);
+// Substrate on body: contact pressure max(0, -F) where the gap is zero, minus the adhesive pull.
+void pressure(const Params &p, const Fields &fields, double *out);
+
+// Persson's theory (non-adhesive): the variance of the contact pressure the body would carry in
+// full contact, sum over q != 0 of (|h(q)| / G(q))^2; throws GFMD_ERR_RANGE if it overflows.
+double persson_variance(const FftGrid &grid, const Body &body, const Fields &fields);
+// A/A0 = erf(sigma0 / sqrt(2 variance)) (Persson, J. Chem. Phys. 115, 3840 (2001)); full contact
+// under any load on a flat substrate.  sigma0 finite and >= 0.
+double persson_contact_area(double variance, double sigma0);
+
+}  // namespace gfmd
+
+#endif

@@ -1,0 +1,32 @@
+#include "solver.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "../error.hpp"
+#include "fire.hpp"
+#include "fire_mass.hpp"
+#include "verlet.hpp"
+
+namespace gfmd {
+
+Dynamics dynamics_for(const Params &p, const Body &body) {
+    Dynamics d;
+    d.dt = (p.dt_user > 0.0) ? p.dt_user : kDtFactor / std::sqrt(body.k_max + p.adhesive_stiffness());
+    d.eta = (p.eta_user > 0.0) ? p.eta_user : 2.0 * kZeta * std::sqrt(body.k_min);
+    return d;
+}
+
+std::unique_ptr<Solver> make_solver(int32_t kind, const FftGrid &grid, const Dynamics &d) {
+    std::unique_ptr<Solver> s;
+    switch (kind) {  // one line per solver
+        case GFMD_SOLVER_VERLET: s = std::make_unique<Verlet>(); break;
+        case GFMD_SOLVER_FIRE: s = std::make_unique<Fire>(); break;
+        case GFMD_SOLVER_FIRE_MASS: s = std::make_unique<FireMass>(grid); break;
+        default: fail(GFMD_ERR_BAD_ENUM, "unknown solver " + std::to_string(kind));
+    }
+    s->restart(d);
+    return s;
+}
+
+}  // namespace gfmd
