@@ -32,7 +32,7 @@
 #include <stdint.h>
 
 #include "gfmd/gfmd_export.h"
-#include "gfmd/gfmd_status.h"
+#include "gfmd/gfmd_constants.h"
 #include "gfmd/version.h"
 
 #ifdef __cplusplus
@@ -42,40 +42,8 @@ extern "C" {
 /** Opaque simulation handle. */
 typedef struct gfmd_sim gfmd_sim;
 
-/** Status codes (generated from GFMD_STATUS_LIST in gfmd/gfmd_status.h). */
-enum gfmd_status_code {
-#define GFMD_X_ENUM(name, value, text) name = value,
-    GFMD_STATUS_LIST(GFMD_X_ENUM)
-#undef GFMD_X_ENUM
-    GFMD_STATUS_END_
-};
-
-/** Kinds of elastic body, for gfmd_set_green(). */
-enum gfmd_green_kind {
-    GFMD_GREEN_HALFSPACE = 0,    /**< semi-infinite body, f = 1 */
-    GFMD_GREEN_LAYER_FLUID = 1,  /**< layer of width w on a fluid (frictionless, free) foundation */
-    GFMD_GREEN_LAYER_BONDED = 2  /**< layer of width w bonded to a rigid foundation; needs nu */
-};
-
-/** Distributions of the random Fourier amplitudes, for gfmd_generate_selfaffine(). */
-enum gfmd_distribution {
-    GFMD_DIST_UNIFORM = 0,  /**< real and imaginary parts uniform (the seed paper's choice) */
-    GFMD_DIST_GAUSSIAN = 1  /**< real and imaginary parts Gaussian */
-};
-
-/** Relaxation methods, for gfmd_set_solver(). */
-enum gfmd_solver {
-    GFMD_SOLVER_VERLET = 0,  /**< the seed paper's damped Verlet dynamics */
-    GFMD_SOLVER_FIRE = 1,    /**< FIRE (Bitzek et al., PRL 97, 170201 (2006)), the default */
-    GFMD_SOLVER_FIRE_MASS = 2 /**< FIRE with mass weighting (see gfmd_set_solver()) */
-};
-
-/** FFTW planner rigour, for gfmd_set_fft_planner(). */
-enum gfmd_planner {
-    GFMD_PLANNER_ESTIMATE = 0, /**< no measurement: instant planning, slower transforms */
-    GFMD_PLANNER_MEASURE = 1,  /**< FFTW_MEASURE, the default: ~1 s to plan 2048^2, ~20 % faster */
-    GFMD_PLANNER_PATIENT = 2   /**< FFTW_PATIENT: long planning, for very long runs */
-};
+/* The enums (status codes, Green kinds, distributions, solvers, planners) and GFMD_DEFAULT_TOL
+ * are generated from include/gfmd/constants.tbl into gfmd/gfmd_constants.h. */
 
 /* ---------------------------------------------------------------- version and status */
 
@@ -287,9 +255,6 @@ GFMD_API int32_t gfmd_step(gfmd_sim *s, int64_t nsteps);
 /** Restart the solver's adaptive state as a change of the landscape would (e.g. after the user
  *  moved the configuration by other means); the configuration stays. */
 GFMD_API int32_t gfmd_restart_solver(gfmd_sim *s);
-
-/** Default tolerance of gfmd_relax() (used when tol <= 0). */
-#define GFMD_DEFAULT_TOL 1e-6
 
 /**
  * Step until the relative force residual (see gfmd_get_residual) is <= tol (tol <= 0: the

@@ -23,6 +23,36 @@ std::mutex &planner_mutex() {
 
 // Below this many points one thread transforms faster than two (measured on 2 cores).
 constexpr int64_t kMinPointsForThreads = 128 * 128;
+
+// FFTW's threads, initialized once before any plan or wisdom (wisdom exported with threads only
+// imports into a process whose threads are initialized).  Call with the planner mutex held.
+bool threads_ready() {
+    static const bool ready = fftw_init_threads() != 0;
+    return ready;
+}
+
+// Wisdom set aside while an ESTIMATE plan is made, and given back after.  FFTW plans from wisdom of
+// an equal or more rigorous planner when it has some, so an ESTIMATE plan made after a MEASURE plan
+// of the same size would be the measured one, chosen by timings: other bits in another process.
+// Without the wisdom it is FFTW's deterministic estimate, the same in every process.
+class WisdomAside {
+public:
+    explicit WisdomAside(bool active) : saved_(active ? fftw_export_wisdom_to_string() : nullptr) {
+        if (active && saved_ == nullptr) throw std::bad_alloc();
+        if (active) fftw_forget_wisdom();
+    }
+    WisdomAside(const WisdomAside &) = delete;
+    WisdomAside &operator=(const WisdomAside &) = delete;
+    ~WisdomAside() {
+        if (saved_ == nullptr) return;
+        fftw_forget_wisdom();  // the estimate's own entries: later ESTIMATE plans make them afresh
+        fftw_import_wisdom_from_string(saved_);
+        fftw_free(saved_);
+    }
+
+private:
+    char *saved_;
+};
 }  // namespace
 
 unsigned planner_flags(int32_t planner) {
@@ -62,6 +92,7 @@ void validate_grid(int64_t nx, int64_t ny, double lx, double ly) {
 
 bool import_wisdom(const char *path) {
     std::lock_guard<std::mutex> lock(planner_mutex());
+    threads_ready();
     return fftw_import_wisdom_from_filename(path) != 0;
 }
 
@@ -88,9 +119,8 @@ void FftGrid::make_plans(int threads, int32_t planner, fftw_plan &r2c, fftw_plan
     auto *cc = reinterpret_cast<fftw_complex *>(c.data());
     const unsigned flags = planner_flags(planner);
     std::lock_guard<std::mutex> lock(planner_mutex());
-    static bool threads_ready = false;
-    if (!threads_ready) threads_ready = fftw_init_threads() != 0;
-    if (threads_ready) fftw_plan_with_nthreads(real_size() >= kMinPointsForThreads ? threads : 1);
+    if (threads_ready()) fftw_plan_with_nthreads(real_size() >= kMinPointsForThreads ? threads : 1);
+    WisdomAside aside(planner == GFMD_PLANNER_ESTIMATE);
     r2c = fftw_plan_dft_r2c_2d(static_cast<int>(ny_), static_cast<int>(nx_), r.data(), cc, flags);
     c2r = fftw_plan_dft_c2r_2d(static_cast<int>(ny_), static_cast<int>(nx_), cc, r.data(), flags);
     if (r2c == nullptr || c2r == nullptr) {

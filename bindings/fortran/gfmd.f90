@@ -44,7 +44,8 @@ module gfmd
     procedure :: set_poisson => sim_set_poisson
     procedure :: set_heights => sim_set_heights
     procedure :: get_heights => sim_get_heights
-    procedure :: generate_selfaffine => sim_generate_selfaffine
+    procedure, private :: sim_generate_selfaffine, sim_generate_selfaffine_i32
+    generic :: generate_selfaffine => sim_generate_selfaffine, sim_generate_selfaffine_i32
     procedure :: set_pressure => sim_set_pressure
     procedure :: set_adhesion => sim_set_adhesion
     procedure :: set_timestep => sim_set_timestep
@@ -55,6 +56,7 @@ module gfmd
     procedure :: relax => sim_relax
     procedure :: get_residual => sim_get_residual
     procedure :: reset => sim_reset
+    procedure :: restart_solver => sim_restart_solver
     procedure :: get_contact_area => sim_get_contact_area
     procedure :: get_mean_gap => sim_get_mean_gap
     procedure :: get_energies => sim_get_energies
@@ -246,16 +248,24 @@ contains
 
   ! ------------------------------------------------------------------ lifetime
 
-  !> Create an nx x ny simulation on an lx x ly cell (replacing one this object held).
-  subroutine sim_create(self, nx, ny, lx, ly, stat, errmsg)
+  !> Create an nx x ny simulation on an lx x ly cell.
+  !> Create (destroying what self held on success).  threads (0 = the default) and planner
+  !> (GFMD_PLANNER_*, default GFMD_PLANNER_MEASURE) are fixed before the first FFT plan, as
+  !> gfmd_sim_create_ex() does.
+  subroutine sim_create(self, nx, ny, lx, ly, threads, planner, stat, errmsg)
     class(gfmd_sim_t), intent(inout) :: self
     integer, intent(in) :: nx, ny
     real(dp), intent(in) :: lx, ly
+    integer, intent(in), optional :: threads, planner
     integer, intent(out), optional :: stat
     character(*), intent(out), optional :: errmsg
     type(c_ptr) :: p
-    integer(c_int32_t) :: st
-    st = c_gfmd_sim_create(int(nx, c_int64_t), int(ny, c_int64_t), lx, ly, p)
+    integer(c_int32_t) :: st, t, pl
+    t = 0
+    pl = GFMD_PLANNER_MEASURE
+    if (present(threads)) t = int(threads, c_int32_t)
+    if (present(planner)) pl = int(planner, c_int32_t)
+    st = c_gfmd_sim_create_ex(int(nx, c_int64_t), int(ny, c_int64_t), lx, ly, t, pl, p)
     if (st == GFMD_OK) then
       call c_gfmd_sim_destroy(self%ptr)
       self%ptr = p
@@ -450,7 +460,7 @@ contains
                                      stat, errmsg)
     class(gfmd_sim_t), intent(inout) :: self
     real(dp), intent(in) :: hurst, lambda_r, lambda_s, rms_gradient
-    integer, intent(in) :: seed
+    integer(c_int64_t), intent(in) :: seed  ! the C uint64_t's bits: seeds >= 2^63 are negative here
     integer, intent(in), optional :: distribution
     integer, intent(out), optional :: stat
     character(*), intent(out), optional :: errmsg
@@ -458,9 +468,22 @@ contains
     d = GFMD_DIST_UNIFORM
     if (present(distribution)) d = int(distribution, c_int32_t)
     call finish(self%ptr, c_gfmd_generate_selfaffine(self%ptr, hurst, lambda_r, lambda_s, rms_gradient, &
-                                                     int(seed, c_int64_t), d), &
+                                                     seed, d), &
                 'generate_selfaffine', stat, errmsg)
   end subroutine sim_generate_selfaffine
+
+  !> The same with a 32-bit seed (a default integer literal): widened, never narrowed.
+  subroutine sim_generate_selfaffine_i32(self, hurst, lambda_r, lambda_s, rms_gradient, seed, distribution, &
+                                         stat, errmsg)
+    class(gfmd_sim_t), intent(inout) :: self
+    real(dp), intent(in) :: hurst, lambda_r, lambda_s, rms_gradient
+    integer(c_int32_t), intent(in) :: seed
+    integer, intent(in), optional :: distribution
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    call sim_generate_selfaffine(self, hurst, lambda_r, lambda_s, rms_gradient, int(seed, c_int64_t), &
+                                 distribution, stat, errmsg)
+  end subroutine sim_generate_selfaffine_i32
 
   ! ------------------------------------------------------------------ loads and dynamics
 
@@ -564,6 +587,15 @@ contains
     character(*), intent(out), optional :: errmsg
     call finish(self%ptr, c_gfmd_reset(self%ptr), 'reset', stat, errmsg)
   end subroutine sim_reset
+
+  !> Restart the solver's adaptive state (gfmd_restart_solver()); relax and step otherwise continue
+  !> the trajectory of the last call.
+  subroutine sim_restart_solver(self, stat, errmsg)
+    class(gfmd_sim_t), intent(inout) :: self
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    call finish(self%ptr, c_gfmd_restart_solver(self%ptr), 'restart_solver', stat, errmsg)
+  end subroutine sim_restart_solver
 
   ! ------------------------------------------------------------------ observables
 

@@ -5,7 +5,7 @@ module gfmd_c_api
   implicit none
   private
   public :: c_gfmd_version, c_gfmd_status_string, c_gfmd_last_error, c_gfmd_last_error_length
-  public :: c_gfmd_sim_create, c_gfmd_sim_clone, c_gfmd_sim_destroy, c_gfmd_get_grid
+  public :: c_gfmd_sim_create, c_gfmd_sim_create_ex, c_gfmd_restart_solver, c_gfmd_sim_clone, c_gfmd_sim_destroy, c_gfmd_get_grid
   public :: c_gfmd_set_modulus, c_gfmd_set_green, c_gfmd_set_poisson, c_gfmd_green_factor
   public :: c_gfmd_set_heights, c_gfmd_get_heights, c_gfmd_generate_selfaffine
   public :: c_gfmd_set_pressure, c_gfmd_set_adhesion, c_gfmd_set_timestep, c_gfmd_set_damping
@@ -212,6 +212,24 @@ module gfmd_c_api
       import :: c_ptr, c_int32_t, c_double
       type(c_ptr), value :: s
       real(c_double), intent(out) :: residual
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_sim_create_ex(int64_t nx, int64_t ny, double lx, double ly, int32_t nthreads,
+    !                            int32_t planner, gfmd_sim **out);
+    function c_gfmd_sim_create_ex(nx, ny, lx, ly, nthreads, planner, out) bind(C, name="gfmd_sim_create_ex") result(r)
+      import :: c_ptr, c_int32_t, c_int64_t, c_double
+      integer(c_int64_t), value :: nx, ny
+      real(c_double), value :: lx, ly
+      integer(c_int32_t), value :: nthreads, planner
+      type(c_ptr), intent(out) :: out
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_restart_solver(gfmd_sim *s);
+    function c_gfmd_restart_solver(s) bind(C, name="gfmd_restart_solver") result(r)
+      import :: c_ptr, c_int32_t
+      type(c_ptr), value :: s
       integer(c_int32_t) :: r
     end function
 

@@ -287,10 +287,12 @@ static void messages(void **state) {
     assert_int_equal(gfmd_last_error(s, big, 0), GFMD_ERR_INVALID_ARG);
     assert_int_equal(gfmd_last_error(s, NULL, 10), GFMD_ERR_NULL);
     /* every status has its own text; unknown ones get a fixed text */
-    for (int32_t c = GFMD_OK; c < GFMD_STATUS_END_; ++c) {
-        assert_non_null(gfmd_status_string(c));
-        assert_string_not_equal(gfmd_status_string(c), "unknown status");
-    }
+#define CHECK_STATUS_TEXT(name, value, text)                        \
+    assert_int_equal(name, value);                                  \
+    assert_string_equal(gfmd_status_string(name), text);            \
+    assert_string_not_equal(gfmd_status_string(name), "unknown status");
+    GFMD_STATUS_LIST(CHECK_STATUS_TEXT)
+#undef CHECK_STATUS_TEXT
     assert_string_equal(gfmd_status_string(-1), "unknown status");
     assert_string_equal(gfmd_status_string(1000), "unknown status");
     assert_string_equal(gfmd_version(), GFMD_VERSION_STRING);

@@ -17,6 +17,7 @@ program test_fortran_bindings
   call assignment_copies()
   call checkpoint_restart()
   call theory_and_fits()
+  call wide_seed_and_creation_options()
 
   print '(i0, " passed, ", i0, " failed")', passed, failed
   if (failed > 0) error stop 1
@@ -41,6 +42,51 @@ contains
   end subroutine ok
 
   !> Same seed, same relaxation, through the module and through raw C calls.
+  !> A seed above 2^31 reaches C unchanged (the surface equals C's for the same 64-bit seed); a
+  !> handle created with threads and planner reports them; restart_solver continues like a same-
+  !> pressure restart of a twin (the C test_continuation proves the trajectory itself).
+  subroutine wide_seed_and_creation_options()
+    integer, parameter :: nx = 32, ny = 24
+    integer(c_int64_t), parameter :: seed = 2_c_int64_t**40 + 3_c_int64_t
+    type(gfmd_sim_t) :: a, b
+    type(c_ptr) :: p
+    real(dp) :: hf(nx, ny), hc(nx * ny), h32(nx, ny), za(nx, ny), zb(nx, ny)
+    integer :: threads, st
+
+    call a%create(nx, ny, real(nx, dp), real(ny, dp), threads=1, planner=GFMD_PLANNER_ESTIMATE)
+    call a%get_threads(threads)
+    call check(threads == 1, 'create with threads = 1 keeps one thread')
+    call a%generate_selfaffine(0.8_dp, 16.0_dp, 4.0_dp, 1.0_dp, seed)
+    call a%get_heights(hf)
+    p = c_null_ptr
+    call ok(c_gfmd_sim_create_ex(int(nx, c_int64_t), int(ny, c_int64_t), real(nx, c_double), real(ny, c_double), &
+                                 1_c_int32_t, int(GFMD_PLANNER_ESTIMATE, c_int32_t), p), 'C create')
+    call ok(c_gfmd_generate_selfaffine(p, 0.8_dp, 16.0_dp, 4.0_dp, 1.0_dp, seed, int(GFMD_DIST_UNIFORM, c_int32_t)), &
+            'C generate')
+    call ok(c_gfmd_get_heights(p, hc), 'C heights')
+    call c_gfmd_sim_destroy(p)
+    call check(all(hf == reshape(hc, [nx, ny])), 'a 64-bit seed gives C''s surface')
+    call a%generate_selfaffine(0.8_dp, 16.0_dp, 4.0_dp, 1.0_dp, 3)
+    call a%get_heights(h32)
+    call check(any(h32 /= hf), 'a narrowed seed (3 = 2^40 + 3 mod 2^32) would give another surface')
+
+    call a%generate_selfaffine(0.8_dp, 16.0_dp, 4.0_dp, 1.0_dp, seed)
+    call a%set_pressure(0.02_dp)
+    call a%step(20)
+    b = a
+    call a%restart_solver()
+    call b%set_pressure(0.02_dp)
+    call a%step(30)
+    call b%step(30)
+    call a%get_surface(za)
+    call b%get_surface(zb)
+    call check(all(za == zb), 'restart_solver restarts as a change of the landscape does')
+    call a%create(nx, ny, 1.0_dp, 1.0_dp, planner=99, stat=st)
+    call check(st == GFMD_ERR_BAD_ENUM, 'an unknown planner at creation is refused')
+    call a%destroy()
+    call b%destroy()
+  end subroutine wide_seed_and_creation_options
+
   subroutine same_problem_as_c()
     integer, parameter :: nx = 48, ny = 32
     type(gfmd_sim_t) :: sim
