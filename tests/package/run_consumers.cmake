@@ -1,6 +1,8 @@
 # cmake -DBUILD_DIR=<gfmd build> -DSOURCE_DIR=<gfmd source> -DWORK=<scratch> -P run_consumers.cmake
 # Installs the built library into a scratch prefix, then builds and runs the consumer projects the
-# way a user would: CMake find_package, and the documented one-line pkg-config command.
+# way a user would: CMake find_package, and the documented one-line pkg-config command, for C and
+# Fortran; and gfmd as a static subproject.  Every program runs without LD_LIBRARY_PATH: the
+# installed libraries must find each other by themselves.
 function(run)
   execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   message("${out}")
@@ -16,7 +18,7 @@ run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
 # CMake: find_package(gfmd)
 run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/package/c -B ${WORK}/c-cmake -DCMAKE_PREFIX_PATH=${prefix})
 run(${CMAKE_COMMAND} --build ${WORK}/c-cmake)
-set(ENV{LD_LIBRARY_PATH} "${prefix}/lib:$ENV{LD_LIBRARY_PATH}")
+unset(ENV{LD_LIBRARY_PATH})
 run(${WORK}/c-cmake/consumer)
 
 # pkg-config: cc consumer.c $(pkg-config --cflags --libs gfmd)
@@ -45,3 +47,9 @@ if(FORTRAN)
   run(gfortran ${SOURCE_DIR}/tests/package/fortran/consumer.f90 ${fflags} -o ${WORK}/consumer-f-pc)
   run(${WORK}/consumer-f-pc)
 endif()
+
+# add_subdirectory: a static gfmd inside the consumer's own build
+run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/package/subproject -B ${WORK}/subproject -DGFMD_SOURCE=${SOURCE_DIR}
+    -DCMAKE_BUILD_TYPE=Debug)
+run(${CMAKE_COMMAND} --build ${WORK}/subproject -j 2)
+run(${WORK}/subproject/consumer)
