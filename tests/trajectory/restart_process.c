@@ -1,0 +1,61 @@
+/* Restart in a new process, the way a user's job script does it.
+ *   restart_process save <dir>    create (default planner), switch to GFMD_PLANNER_ESTIMATE, surface,
+ *                                 30 steps, save <dir>/run.gfmd, export wisdom <dir>/wisdom, 50 more
+ *                                 steps, write z to <dir>/z_straight.bin
+ *   restart_process resume <dir>  (a fresh process) import the wisdom before any handle exists,
+ *                                 load, 50 steps, write z to <dir>/z_resumed.bin
+ * The ctest (resume.cmake) runs both and compares the two files byte for byte: the promise that a
+ * checkpoint resumes bit for bit with GFMD_PLANNER_ESTIMATE, and that exported wisdom imports in a
+ * fresh process. */
+#include <gfmd.h>
+#include <stdio.h>
+#include <string.h>
+
+enum { NX = 64, NY = 48 };
+
+static int ok(gfmd_sim *s, int32_t st, const char *what) {
+    if (st == GFMD_OK) return 1;
+    char msg[256] = "";
+    if (s) gfmd_last_error(s, msg, sizeof msg);
+    fprintf(stderr, "restart_process: %s: %s %s\n", what, gfmd_status_string(st), msg);
+    return 0;
+}
+
+static int write_z(gfmd_sim *s, const char *dir, const char *name) {
+    static double z[NX * NY];
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "wb");
+    int good = f && ok(s, gfmd_get_surface(s, z), "surface") && fwrite(z, sizeof z, 1, f) == 1;
+    if (f) fclose(f);
+    return good;
+}
+
+int main(int argc, char **argv) {
+    if (argc != 3) return 2;
+    const char *dir = argv[2];
+    char ckpt[1024], wisdom[1024];
+    snprintf(ckpt, sizeof ckpt, "%s/run.gfmd", dir);
+    snprintf(wisdom, sizeof wisdom, "%s/wisdom", dir);
+    gfmd_sim *s = NULL;
+    if (!strcmp(argv[1], "save")) {
+        int good = ok(NULL, gfmd_sim_create(NX, NY, NX, NY, &s), "create") &&
+                   ok(s, gfmd_set_fft_planner(s, GFMD_PLANNER_ESTIMATE), "planner") &&
+                   ok(s, gfmd_generate_selfaffine(s, 0.8, 16.0, 4.0, 1.0, 9, GFMD_DIST_UNIFORM), "surface") &&
+                   ok(s, gfmd_set_pressure(s, 0.05), "pressure") && ok(s, gfmd_step(s, 30), "steps") &&
+                   ok(s, gfmd_sim_save(s, ckpt), "save") && ok(s, gfmd_export_wisdom(wisdom), "export wisdom") &&
+                   ok(s, gfmd_step(s, 50), "steps") && write_z(s, dir, "z_straight.bin");
+        gfmd_sim_destroy(&s);
+        return good ? 0 : 1;
+    }
+    if (!strcmp(argv[1], "resume")) {
+        char msg[256] = "";
+        int good = ok(NULL, gfmd_import_wisdom(wisdom), "import wisdom in a fresh process");
+        int32_t st = gfmd_sim_load(ckpt, &s, msg, sizeof msg);
+        if (st != GFMD_OK) fprintf(stderr, "restart_process: load: %s\n", msg);
+        good = good && st == GFMD_OK && ok(s, gfmd_step(s, 50), "steps") && write_z(s, dir, "z_resumed.bin");
+        gfmd_sim_destroy(&s);
+        return good ? 0 : 1;
+    }
+    return 2;
+}

@@ -1,0 +1,13 @@
+# cmake -DPROGRAM=<restart_process> -DDIR=<scratch> -P resume.cmake: two processes, one file.
+file(REMOVE_RECURSE ${DIR})
+file(MAKE_DIRECTORY ${DIR})
+foreach(mode save resume)
+  execute_process(COMMAND ${PROGRAM} ${mode} ${DIR} RESULT_VARIABLE rc)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "restart_process ${mode} failed (${rc})")
+  endif()
+endforeach()
+execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${DIR}/z_straight.bin ${DIR}/z_resumed.bin RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "the run resumed in a new process differs from the straight run")
+endif()
