@@ -12,8 +12,8 @@ cmake -S "$root" -B "$root/build" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$root/build" -j "$(nproc)" --target gfmd_paper
 out="$root/build/paper"
 mkdir -p "$out"
-"$root/build/examples/gfmd_paper" --out "$out" "$@" | tee "$out/study.log"
-gnuplot -e "dir='$out'" "$root/examples/paper/plot_paper.gp"
+"$root/build/apps/paper/gfmd_paper" --out "$out" "$@" | tee "$out/study.log"
+gnuplot -e "dir='$out'" "$root/apps/paper/plot_paper.gp"
 echo
 echo "tables: $out/*.csv"
 echo "plots:  $(cd "$out" && ls fig*.png | sed "s|^|$out/|" | tr '\n' ' ')"

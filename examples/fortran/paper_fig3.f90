@@ -1,4 +1,4 @@
-! The Fortran twin of the seed paper's Fig. 3 sweep (gfmd_paper, examples/c/paper_study.c): the
+! The Fortran twin of the seed paper's Fig. 3 sweep (gfmd_paper, apps/paper/): the
 ! same substrate, bodies and loads through the module gfmd, the same CSV columns, and the
 ! half-space's kappa by gfmd_least_squares.
 !

@@ -1,5 +1,5 @@
 # Plots the tables of gfmd_paper (reads the CSVs only; computing is separate):
-#   gnuplot -e "dir='paper'" examples/paper/plot_paper.gp     -> dir/fig3.png ... dir/fig7.png
+#   gnuplot -e "dir='paper'" apps/paper/plot_paper.gp     -> dir/fig3.png ... dir/fig7.png
 if (!exists("dir")) dir = '.'
 if (!exists("widths")) widths = "0 100 10 4 2 1 0.5 0.25 0.177 0.125 0.088 0.0625 0.044"
 set terminal pngcairo size 900,650 font ",11"

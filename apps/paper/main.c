@@ -1,0 +1,155 @@
+/* The seed paper's study (Putignano, Dapp & Mueser, Biomimetics 1, 7 (2016)) with the library:
+ * load sweeps of a half-space and of layers on a fluid foundation pressed onto one self-affine
+ * substrate, the collapse factor c(W), the separation, and the adhesive energy ratio theta.
+ *
+ *   gfmd_paper [--n N] [--bandwidth R] [--full | --quick] [--out DIR] [--seed S] [--threads T]
+ *              [--no-adhesion] [--widths 0,W1,W2,...] [--solver fire|mass]
+ *
+ * Surface: H = 0.8, lambda_s = 4a, lambda_r = R lambda_s, cell L = N a (default N = 256, R = 32,
+ * L = 2 lambda_r; --full: N = 2048, R = 64, L = 8 lambda_r as in the paper; --quick, the test's
+ * mode: N = 128, R = 16, half of the bodies; options after --full/--quick override), g = 1,
+ * E* = 1, uniform random amplitudes.  Every load step continues from the last equilibrium.
+ * Writes CSV tables into DIR (one per figure, see docs/paper/README.md) and prints the fits
+ * (fits.c says which). */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+
+#include "study.h"
+
+/* Bodies: W = w/lambda_s, 0 = half-space.  W <= 0.25 are the thin sheets of the W^-3 regime
+ * (with lambda_s = 4a, q_s w = 2 pi W is small only there). */
+static const double ALL_WIDTHS[] = {0.0, 100.0, 10.0, 4.0, 2.0, 1.0, 0.5, 0.25, 0.177, 0.125, 0.088, 0.0625, 0.044};
+static const double ALL_ADH_WIDTHS[] = {0.0, 4.0, 1.0, 0.5, 0.25, 0.177, 0.125, 0.088, 0.0625};
+/* --quick (the test's mode): fewer bodies, still three or more in each small-W fit */
+static const double QUICK_WIDTHS[] = {0.0, 4.0, 1.0, 0.25, 0.125, 0.088, 0.0625};
+static const double QUICK_ADH_WIDTHS[] = {0.25, 0.177, 0.125, 0.088, 0.0625};
+#define COUNT(a) ((int)(sizeof(a) / sizeof((a)[0])))
+
+double now(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+void die(const gfmd_sim *s, int32_t st, const char *what) {
+    char msg[512] = "";
+    if (s) gfmd_last_error(s, msg, sizeof msg);
+    fprintf(stderr, "gfmd_paper: %s failed: %s: %s\n", what, gfmd_status_string(st), msg);
+    exit(1);
+}
+
+static void usage(const char *argv0) {
+    fprintf(stderr, "usage: %s [--n N] [--bandwidth R] [--full | --quick] [--out DIR] [--seed S] [--threads T] [--no-adhesion] [--widths 0,W1,...] [--solver fire|mass]\n",
+            argv0);
+    exit(2);
+}
+
+static void set_widths(double *to, int *n, const double *from, int count) {
+    memcpy(to, from, sizeof(double) * (size_t)count);
+    *n = count;
+}
+
+static options parse_options(int argc, char **argv) {
+    options o = {256, 32.0, 2016, 0, 1, GFMD_SOLVER_FIRE, ".", {0}, {0}, 0, 0};
+    set_widths(o.widths, &o.n_widths, ALL_WIDTHS, COUNT(ALL_WIDTHS));
+    set_widths(o.adh_widths, &o.n_adh, ALL_ADH_WIDTHS, COUNT(ALL_ADH_WIDTHS));
+    for (int i = 1; i < argc; ++i) {
+        if (!strcmp(argv[i], "--n") && i + 1 < argc) o.n = strtol(argv[++i], NULL, 10);
+        else if (!strcmp(argv[i], "--bandwidth") && i + 1 < argc) o.bandwidth = strtod(argv[++i], NULL);
+        else if (!strcmp(argv[i], "--full")) o.n = 2048, o.bandwidth = 64.0;
+        else if (!strcmp(argv[i], "--quick")) {
+            o.n = 128, o.bandwidth = 16.0;
+            set_widths(o.widths, &o.n_widths, QUICK_WIDTHS, COUNT(QUICK_WIDTHS));
+            set_widths(o.adh_widths, &o.n_adh, QUICK_ADH_WIDTHS, COUNT(QUICK_ADH_WIDTHS));
+        }
+        else if (!strcmp(argv[i], "--out") && i + 1 < argc) o.dir = argv[++i];
+        else if (!strcmp(argv[i], "--seed") && i + 1 < argc) o.seed = strtoull(argv[++i], NULL, 10);
+        else if (!strcmp(argv[i], "--threads") && i + 1 < argc) o.threads = strtol(argv[++i], NULL, 10);
+        else if (!strcmp(argv[i], "--no-adhesion")) o.adhesion = 0;
+        else if (!strcmp(argv[i], "--solver") && i + 1 < argc) {
+            ++i;
+            if (!strcmp(argv[i], "fire")) o.solver = GFMD_SOLVER_FIRE;
+            else if (!strcmp(argv[i], "mass")) o.solver = GFMD_SOLVER_FIRE_MASS;
+            else usage(argv[0]);
+        }
+        else if (!strcmp(argv[i], "--widths") && i + 1 < argc) {
+            /* comma-separated W list for the sweeps without adhesion, 0 = half-space first */
+            int k = 0;
+            for (char *tok = strtok(argv[++i], ","); tok && k < MAX_BODIES; tok = strtok(NULL, ","))
+                o.widths[k++] = strtod(tok, NULL);
+            if (k < 1 || o.widths[0] != 0.0) {
+                fprintf(stderr, "gfmd_paper: --widths must start with 0 (the half-space)\n");
+                exit(2);
+            }
+            o.n_widths = k;
+        }
+        else usage(argv[0]);
+    }
+    if (o.n < 32 || !(o.bandwidth >= 1.0) || o.bandwidth * LAMBDA_S > (double)o.n || o.threads < 0) {
+        fprintf(stderr, "gfmd_paper: need --n >= 32 and 1 <= bandwidth <= n/4 (lambda_r = R * 4a within the cell)\n");
+        exit(2);
+    }
+    if (mkdir(o.dir, 0777) != 0 && errno != EEXIST) {
+        fprintf(stderr, "gfmd_paper: cannot create %s: %s\n", o.dir, strerror(errno));
+        exit(1);
+    }
+    return o;
+}
+
+/* The study's substrate on a handle that every body clones; *u_max = max h - <h>. */
+static gfmd_sim *make_surface(const options *o, double *u_max) {
+    const double l = (double)o->n, lambda_r = o->bandwidth * LAMBDA_S;
+    printf("gfmd %s: the study of Putignano, Dapp & Mueser (2016)\n", gfmd_version());
+    printf("grid %ldx%ld, L = %.0f a, lambda_s = %.0f a, lambda_r = %.0f a (= %.0f lambda_s, L = %.3g lambda_r), "
+           "H = %.1f, g = %.0f, E* = %.0f, seed %llu\n",
+           o->n, o->n, l, LAMBDA_S, lambda_r, o->bandwidth, l / lambda_r, HURST, GRADIENT, E_STAR, o->seed);
+    gfmd_sim *surface = NULL;
+    CHECK(NULL, gfmd_sim_create_ex(o->n, o->n, l, l, (int32_t)o->threads, GFMD_PLANNER_MEASURE, &surface));
+    CHECK(surface, gfmd_generate_selfaffine(surface, HURST, lambda_r, LAMBDA_S, GRADIENT, o->seed, GFMD_DIST_UNIFORM));
+    double *h = malloc(sizeof(double) * (size_t)(o->n * o->n));
+    if (!h) die(NULL, GFMD_ERR_NOMEM, "heights");
+    CHECK(surface, gfmd_get_heights(surface, h));
+    double hmax = -INFINITY, hmean = 0.0;
+    for (long i = 0; i < o->n * o->n; ++i) hmax = fmax(hmax, h[i]), hmean += h[i] / (double)(o->n * o->n);
+    free(h);
+    *u_max = hmax - hmean;
+    return surface;
+}
+
+int main(int argc, char **argv) {
+    const options o = parse_options(argc, argv);
+    double u_max = 0.0;
+    gfmd_sim *surface = make_surface(&o, &u_max);
+    const double t_start = now();
+    fits f = {NAN, {0}, {NAN, NAN}, {{NAN, NAN}, {NAN, NAN}, {NAN, NAN}}, NAN};
+
+    /* Figs. 3, 4, 6: load sweeps without adhesion, with Persson's theory beside them */
+    static sweep sw[MAX_BODIES];
+    for (int b = 0; b < o.n_widths; ++b) run_sweep(surface, o.widths[b], 0, u_max, o.solver, &sw[b]);
+    write_load_tables(sw, &o);
+    write_persson_curves(surface, sw, &o);
+
+    /* kappa, and Fig. 5: the collapse factor c(W) */
+    fit_kappa(&sw[0], &f);
+    fit_collapse(sw, &o, &f);
+    write_collapse_tables(sw, &o, &f);
+
+    /* Fig. 7: theta = U_el/U_ad with adhesion */
+    if (o.adhesion) {
+        static sweep ad[MAX_BODIES];
+        for (int b = 0; b < o.n_adh; ++b) run_sweep(surface, o.adh_widths[b], 1, u_max, o.solver, &ad[b]);
+        write_theta_tables(ad, &o);
+        fit_theta(ad, &o, &f);
+    }
+
+    write_fits(&o, &f);
+    report_fits(&o, &f);
+    printf("total %.1f s; tables in %s\n", now() - t_start, o.dir);
+    gfmd_sim_destroy(&surface);
+    return 0;
+}

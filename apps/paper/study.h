@@ -1,0 +1,87 @@
+/* The seed paper's study as a program: its settings, its data, and the three steps of its outline
+ * (sweep.c: load sweeps; fits.c: kappa, c(W), theta; tables.c: the CSV tables and the report).
+ * No global state: everything a step needs is passed in. */
+#ifndef GFMD_APPS_PAPER_STUDY_H
+#define GFMD_APPS_PAPER_STUDY_H
+
+#include <gfmd.h>
+#include <stddef.h>
+
+enum { MAX_LOADS = 16, MAX_BODIES = 16, N_TARGETS = 3 };
+
+/* The paper's surface and body (Putignano, Dapp & Mueser 2016, Sec. 3): H = 0.8, lambda_s = 4a,
+ * rms gradient g = 1, E* = 1; adhesion gamma0 = 5e-4 E* a with range rho = a. */
+#define LAMBDA_S 4.0
+#define HURST 0.8
+#define GRADIENT 1.0
+#define E_STAR 1.0
+#define GAMMA0 5e-4
+#define RHO 1.0
+/* Upper ends of the small-W fits.  c(W): the thin-plate limit f = 6/t^3 (1 + t^2/5 + ...) holds at
+ * the shortest roughness wavelength, t = q_s w = 2 pi W, to about 10 % only for W <= 1/8.  theta:
+ * with adhesion the thinnest sheets are sticky (their area at vanishing load exceeds the target
+ * areas), so its fit spans W <= 1/4 where the targets are reached. */
+#define SMALL_W_C (0.125 + 1e-9)
+#define SMALL_W_THETA (0.25 + 1e-9)
+#define KAPPA_MAX_AREA 0.1    /* the linear (small-load) regime */
+#define COLLAPSE_MAX_AREA 0.3 /* points used for c(W) */
+
+typedef struct {
+    long n;                 /* grid points per side */
+    double bandwidth;       /* lambda_r / lambda_s */
+    unsigned long long seed;
+    long threads;           /* 0 = the library's default */
+    int adhesion;           /* run the adhesive sweeps of Fig. 7 */
+    int32_t solver;         /* GFMD_SOLVER_* */
+    const char *dir;        /* output folder */
+    double widths[MAX_BODIES], adh_widths[MAX_BODIES]; /* W = w/lambda_s, 0 = half-space first */
+    int n_widths, n_adh;
+} options;
+
+typedef struct {
+    double W, sigma0, area, persson, gap, sep, u_el, u_ad, seconds;
+    long long steps;
+} point;
+
+typedef struct {
+    double W;
+    int n;
+    point p[MAX_LOADS];
+} sweep;
+
+typedef struct {
+    double kappa;
+    double cw[MAX_BODIES];           /* c(W) of each body of the sweeps without adhesion */
+    double cfit[2];                  /* ln prefactor, exponent of c(W) for W <= SMALL_W_C */
+    double tfit[N_TARGETS][2];       /* theta ~ W^beta at each target area */
+    double theta_common;             /* the common beta */
+} fits;
+
+extern const double TARGETS[N_TARGETS]; /* contact areas of the theta fits */
+
+/* Failures end the program with the library's message (a study has nothing to recover). */
+void die(const gfmd_sim *s, int32_t st, const char *what);
+#define CHECK(s, call)                            \
+    do {                                          \
+        int32_t st_ = (call);                     \
+        if (st_ != GFMD_OK) die((s), st_, #call); \
+    } while (0)
+double now(void);
+
+/* sweep.c */
+gfmd_sim *make_body(const gfmd_sim *surface, double W, int32_t solver);
+void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, int32_t solver, sweep *out);
+/* fits.c */
+void fit_kappa(const sweep *halfspace, fits *f);
+void fit_collapse(const sweep *sw, const options *o, fits *f);
+void fit_theta(const sweep *ad, const options *o, fits *f);
+double at_area(const sweep *c, double area, size_t field);
+/* tables.c */
+void write_load_tables(const sweep *sw, const options *o);
+void write_persson_curves(const gfmd_sim *surface, const sweep *sw, const options *o);
+void write_collapse_tables(const sweep *sw, const options *o, const fits *f);
+void write_theta_tables(const sweep *ad, const options *o);
+void write_fits(const options *o, const fits *f);
+void report_fits(const options *o, const fits *f);
+
+#endif

@@ -1,0 +1,62 @@
+/* Load sweeps: one body on the study's surface, loads rising, each relaxation continuing from the
+ * previous equilibrium. */
+#include <math.h>
+#include <stdio.h>
+
+#include "study.h"
+
+/* Loads: those at which Persson's theory predicts these areas for each body, so every body is
+ * swept over the same range of contact area although the loads differ by orders of magnitude. */
+static const double AREA_GRID[] = {0.004, 0.008, 0.016, 0.03, 0.05, 0.08, 0.12, 0.18, 0.27, 0.4};
+enum { N_LOADS = (int)(sizeof AREA_GRID / sizeof AREA_GRID[0]) };
+
+/* The load at which Persson's A/A0 = erf(sigma0/sqrt(2V)) equals a target: bisection on erf. */
+static double persson_load(double v, double area) {
+    double lo = 0.0, hi = 10.0;
+    for (int i = 0; i < 200; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        if (erf(mid) < area) lo = mid; else hi = mid;
+    }
+    return 0.5 * (lo + hi) * sqrt(2.0 * v);
+}
+
+gfmd_sim *make_body(const gfmd_sim *surface, double W, int32_t solver) {
+    gfmd_sim *s = NULL;
+    CHECK(surface, gfmd_sim_clone(surface, &s));
+    CHECK(s, gfmd_set_solver(s, solver));
+    if (W > 0.0) CHECK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, W * LAMBDA_S));
+    return s;
+}
+
+void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, int32_t solver, sweep *out) {
+    gfmd_sim *s = make_body(surface, W, solver);
+    if (adhesive) CHECK(s, gfmd_set_adhesion(s, GAMMA0, RHO));
+    out->W = W;
+    out->n = N_LOADS;
+    double variance = 0.0; /* Persson's full-contact pressure variance: one FFT per body */
+    CHECK(s, gfmd_persson_variance(s, &variance));
+    printf("\n%s%s, W = w/lambda_s = %g\n", W > 0 ? "layer on a fluid foundation" : "half-space",
+           adhesive ? " with adhesion" : "", W);
+    printf("%12s %10s %10s %10s %12s %12s %7s %7s\n", "sigma0/E*g", "A/A0", "Persson", "s", "U_el", "U_ad", "steps",
+           "seconds");
+    for (int k = 0; k < N_LOADS; ++k) {
+        point *p = &out->p[k];
+        p->W = W;
+        p->sigma0 = persson_load(variance, AREA_GRID[k]);
+        int64_t steps = 0;
+        const double t0 = now();
+        CHECK(s, gfmd_set_pressure(s, p->sigma0));
+        CHECK(s, gfmd_relax(s, 0.0, 2000000, &steps));
+        p->seconds = now() - t0;
+        p->steps = (long long)steps;
+        CHECK(s, gfmd_get_contact_area(s, &p->area));
+        CHECK(s, gfmd_persson_contact_area(s, p->sigma0, &p->persson));
+        CHECK(s, gfmd_get_mean_gap(s, &p->gap));
+        CHECK(s, gfmd_get_energies(s, &p->u_el, &p->u_ad));
+        p->sep = p->gap / u_max; /* s = 1 - <u>/u_max = mean gap / (max h - <h>) */
+        printf("%12.4e %10.5f %10.5f %10.5f %12.5e %12.5e %7lld %7.2f\n", p->sigma0 / (E_STAR * GRADIENT), p->area,
+               p->persson, p->sep, p->u_el, p->u_ad, p->steps, p->seconds);
+        fflush(stdout);
+    }
+    gfmd_sim_destroy(&s);
+}
