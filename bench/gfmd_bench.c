@@ -5,7 +5,7 @@
  *   gfmd_bench [--sizes 256,512,1024,2048] [--big] [--widths 0,0.5,1,4] [--threads N]
  *              [--cg-seconds S] [--no-cg] [--sigma0 S] [--solver fire|mass|verlet]
  *
- * Problem (the issue's): self-affine, H = 0.8, lambda_s = 4a, lambda_r = n a/8, rms gradient 1,
+ * Problem: self-affine, H = 0.8, lambda_s = 4a, lambda_r = n a/8, rms gradient 1,
  * E* = 1, sigma0 = 0.05 (--sigma0); W = w/lambda_s, 0 = half-space.  The "fft" column is the
  * bare r2c + c2r pairs one step of the chosen solver needs (two for mass-weighted FIRE).  The converged A/A0 comes from an
  * untimed GFMD relaxation to 1e-10.  Then, from the same start, GFMD (in chunks of 5 steps) and

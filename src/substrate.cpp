@@ -11,7 +11,7 @@ namespace gfmd {
 
 namespace {
 
-constexpr double kTwoPi = 6.283185307179586476925;
+constexpr double kTwoPi = 2.0 * kPi;  // the same double as 2 pi's literal: power-of-two scaling is exact
 
 // Spectrum of a self-affine surface with roll-off (Persson et al., J. Phys.: Condens. Matter 17,
 // R1 (2005); the seed paper's Sec. 2.3): flat below q_r, power law q^-2(1+H) up to q_s, zero above.

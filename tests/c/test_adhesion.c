@@ -1,4 +1,4 @@
-/* Test 6: adhesion.  With gamma0 > 0 the contact area at a given load grows, the relaxed state is
+/* Adhesion.  With gamma0 > 0 the contact area at a given load grows, the relaxed state is
  * a minimum of the total energy U_el - U_ad + sigma0 A <z> (no small admissible perturbation
  * lowers it), the library's energies equal the test's own evaluation of their definitions, and
  * the substrate's stress still balances the load. */

@@ -1,4 +1,4 @@
-/* Test 7: every API function with bad input: NULL handle, NULL output, non-positive sizes,
+/* Every API function with bad input: NULL handle, NULL output, non-positive sizes,
  * NaN/inf/negative parameters, unknown enum values and impossible combinations give the documented
  * status and a message, and the handle stays usable and unchanged. */
 #include <math.h>

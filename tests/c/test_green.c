@@ -1,5 +1,5 @@
-/* Test 1: the Green's function factors f(t) against independent evaluations: the issue's
- * reference values, the closed forms in long double where they do not cancel, the small-t series
+/* The Green's function factors f(t) against independent evaluations: reference values of the
+ * fluid-layer f(t) computed to 7 digits outside this library, the closed forms in long double where they do not cancel, the small-t series
  * (thin-plate limit t^3 f -> 6) and the large-t limit f -> 1. */
 #include <float.h>
 #include <math.h>
@@ -46,7 +46,8 @@ static double bonded_closed(double t, double nu, double *tol) {
 
 static void reference_values(void **state) {
     (void)state;
-    /* Values quoted in the issue to 7 significant digits: agree to half a unit in the 7th. */
+    /* Reference values of f(t) = (sinh 2t + 2t)/(cosh 2t - 1 - 2t^2) to 7 significant digits:
+     * agree to half a unit in the 7th. */
     const double t[] = {0.1, 0.5, 1.0, 2.0, 5.0};
     const double f[] = {6012.018, 50.49139, 7.382435, 1.709063, 1.005565};
     for (int i = 0; i < 5; ++i) assert_true(ts_rel(fluid(t[i]), f[i]) < 1e-6);

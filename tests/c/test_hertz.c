@@ -1,4 +1,4 @@
-/* Test 3: Hertz.  A paraboloid h = -r^2/(2R) pressed into a half-space by the force F = sigma0 A
+/* Hertz.  A paraboloid h = -r^2/(2R) pressed into a half-space by the force F = sigma0 A
  * makes a circular contact of radius a = (3 F R / (4 E*))^(1/3) with central pressure
  * p0 = 2 E* a / (pi R) (K. L. Johnson, Contact Mechanics, Sec. 4.2). */
 #include <math.h>

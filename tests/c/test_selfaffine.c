@@ -1,4 +1,4 @@
-/* Test 4: the self-affine generator, checked by the test's own FFT of the heights: the spectral
+/* The self-affine generator, checked by the test's own FFT of the heights: the spectral
  * rms gradient equals the request, max h = 0, no power above q_s, the radially averaged spectrum
  * between q_r and q_s falls like q^(-2(1+H)), and a seed always gives the same surface. */
 #include <fftw3.h>

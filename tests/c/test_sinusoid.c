@@ -1,4 +1,4 @@
-/* Test 2: a sinusoidal substrate h = h0 cos(2 pi x / lambda).  For complete contact the body
+/* A sinusoidal substrate h = h0 cos(2 pi x / lambda).  For complete contact the body
  * takes the substrate's shape, a single Fourier mode, and the pressure needed is exactly
  * p* = h0 q E* / (2 f(q w)) on the grid too.  For the half-space the contact width below p*
  * follows Westergaard: A/A0 = (2/pi) arcsin(sqrt(sigma0/p*)) (K. L. Johnson, Contact Mechanics,
