@@ -1,0 +1,246 @@
+/* "A failed call changes nothing", for every setter, generator and dynamics call and every way
+ * the header says it can fail: after each failing call the handle is compared with a twin that
+ * never made it — every observable, every field, the dynamics, and what the next steps do (so the
+ * solver's adaptive state is compared too).  Twins are made alike and planned alike (ESTIMATE,
+ * one thread), so the comparison is bit for bit. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "gfmd.h"
+#include "test_support.h"
+
+enum { NX = 32, NY = 24, N = NX * NY };
+
+static gfmd_sim *make_twin(void) {
+    gfmd_sim *s = NULL;
+    assert_int_equal(gfmd_sim_create_ex(NX, NY, NX, NY, 1, GFMD_PLANNER_ESTIMATE, &s), GFMD_OK);
+    TS_OK(s, gfmd_generate_selfaffine(s, 0.8, 8.0, 4.0, 1.0, 3, GFMD_DIST_UNIFORM));
+    TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 4.0)); /* Poisson's ratio left unset */
+    TS_OK(s, gfmd_set_adhesion(s, 1e-3, 0.5));
+    TS_OK(s, gfmd_set_pressure(s, 0.05));
+    TS_OK(s, gfmd_step(s, 20)); /* FIRE has adapted its step: a restart would show */
+    return s;
+}
+
+/* Every observable and field of a and b, bit for bit; then 5 steps of both, compared again. */
+static void same_state(gfmd_sim *a, gfmd_sim *b, const char *after) {
+    static double fa[N], fb[N];
+    int32_t (*const getters[])(const gfmd_sim *, double *) = {gfmd_get_surface, gfmd_get_gap, gfmd_get_pressure,
+                                                             gfmd_get_heights};
+    for (int round = 0; round < 2; ++round) {
+        for (size_t g = 0; g < sizeof getters / sizeof getters[0]; ++g) {
+            TS_OK(a, getters[g](a, fa));
+            TS_OK(b, getters[g](b, fb));
+            if (memcmp(fa, fb, sizeof fa) != 0) fail_msg("after %s: field %zu differs (round %d)", after, g, round);
+        }
+        double xa[8], xb[8];
+        TS_OK(a, gfmd_get_contact_area(a, &xa[0]));
+        TS_OK(b, gfmd_get_contact_area(b, &xb[0]));
+        TS_OK(a, gfmd_get_mean_gap(a, &xa[1]));
+        TS_OK(b, gfmd_get_mean_gap(b, &xb[1]));
+        TS_OK(a, gfmd_get_energies(a, &xa[2], &xa[3]));
+        TS_OK(b, gfmd_get_energies(b, &xb[2], &xb[3]));
+        TS_OK(a, gfmd_get_residual(a, &xa[4]));
+        TS_OK(b, gfmd_get_residual(b, &xb[4]));
+        TS_OK(a, gfmd_get_dynamics(a, &xa[5], &xa[6]));
+        TS_OK(b, gfmd_get_dynamics(b, &xb[5], &xb[6]));
+        TS_OK(a, gfmd_persson_variance(a, &xa[7]));
+        TS_OK(b, gfmd_persson_variance(b, &xb[7]));
+        if (memcmp(xa, xb, sizeof xa) != 0) fail_msg("after %s: an observable differs (round %d)", after, round);
+        int32_t ta = 0, tb = 0;
+        TS_OK(a, gfmd_get_threads(a, &ta));
+        TS_OK(b, gfmd_get_threads(b, &tb));
+        assert_int_equal(ta, tb);
+        if (round == 0) {
+            TS_OK(a, gfmd_step(a, 5));
+            TS_OK(b, gfmd_step(b, 5));
+        }
+    }
+}
+
+typedef struct {
+    const char *what;
+    int32_t expected;
+    int32_t (*call)(gfmd_sim *s);
+} failing;
+
+static double bad_heights[N];
+static int32_t modulus_nan(gfmd_sim *s) { return gfmd_set_modulus(s, NAN); }
+static int32_t modulus_inf(gfmd_sim *s) { return gfmd_set_modulus(s, INFINITY); }
+static int32_t modulus_zero(gfmd_sim *s) { return gfmd_set_modulus(s, 0.0); }
+static int32_t modulus_negative(gfmd_sim *s) { return gfmd_set_modulus(s, -1.0); }
+static int32_t modulus_overflow(gfmd_sim *s) { return gfmd_set_modulus(s, 1e308); }
+static int32_t green_unknown(gfmd_sim *s) { return gfmd_set_green(s, 7, 1.0); }
+static int32_t green_width_zero(gfmd_sim *s) { return gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 0.0); }
+static int32_t green_width_negative(gfmd_sim *s) { return gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, -2.0); }
+static int32_t green_width_nan(gfmd_sim *s) { return gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, NAN); }
+static int32_t green_width_inf(gfmd_sim *s) { return gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, INFINITY); }
+static int32_t green_bonded_without_nu(gfmd_sim *s) { return gfmd_set_green(s, GFMD_GREEN_LAYER_BONDED, 2.0); }
+static int32_t poisson_low(gfmd_sim *s) { return gfmd_set_poisson(s, -1.0); }
+static int32_t poisson_high(gfmd_sim *s) { return gfmd_set_poisson(s, 0.51); }
+static int32_t poisson_nan(gfmd_sim *s) { return gfmd_set_poisson(s, NAN); }
+static int32_t heights_null(gfmd_sim *s) { return gfmd_set_heights(s, NULL); }
+static int32_t heights_nan(gfmd_sim *s) {
+    bad_heights[N / 2] = NAN;
+    return gfmd_set_heights(s, bad_heights);
+}
+static int32_t heights_huge(gfmd_sim *s) {
+    bad_heights[N / 2] = 2e100;
+    return gfmd_set_heights(s, bad_heights);
+}
+static int32_t heights_inf(gfmd_sim *s) {
+    bad_heights[N - 1] = -INFINITY;
+    bad_heights[N / 2] = 0.0;
+    return gfmd_set_heights(s, bad_heights);
+}
+static int32_t gen(gfmd_sim *s, double h, double lr, double ls, double g, int32_t d) {
+    return gfmd_generate_selfaffine(s, h, lr, ls, g, 3, d);
+}
+static int32_t gen_hurst_low(gfmd_sim *s) { return gen(s, -0.1, 8.0, 4.0, 1.0, 0); }
+static int32_t gen_hurst_high(gfmd_sim *s) { return gen(s, 1.1, 8.0, 4.0, 1.0, 0); }
+static int32_t gen_hurst_nan(gfmd_sim *s) { return gen(s, NAN, 8.0, 4.0, 1.0, 0); }
+static int32_t gen_lr_below_ls(gfmd_sim *s) { return gen(s, 0.8, 3.0, 4.0, 1.0, 0); }
+static int32_t gen_lr_huge(gfmd_sim *s) { return gen(s, 0.8, 1e300, 4.0, 1.0, 0); }
+static int32_t gen_lr_inf(gfmd_sim *s) { return gen(s, 0.8, INFINITY, 4.0, 1.0, 0); }
+static int32_t gen_ls_below_grid(gfmd_sim *s) { return gen(s, 0.8, 8.0, 1.0, 1.0, 0); }
+static int32_t gen_ls_above_cell(gfmd_sim *s) { return gen(s, 0.8, 80.0, 40.0, 1.0, 0); }
+static int32_t gen_gradient_zero(gfmd_sim *s) { return gen(s, 0.8, 8.0, 4.0, 0.0, 0); }
+static int32_t gen_gradient_nan(gfmd_sim *s) { return gen(s, 0.8, 8.0, 4.0, NAN, 0); }
+static int32_t gen_gradient_huge(gfmd_sim *s) { return gen(s, 0.8, 8.0, 4.0, 1e99, 0); }
+static int32_t gen_distribution(gfmd_sim *s) { return gen(s, 0.8, 8.0, 4.0, 1.0, 9); }
+static int32_t pressure_negative(gfmd_sim *s) { return gfmd_set_pressure(s, -0.1); }
+static int32_t pressure_nan(gfmd_sim *s) { return gfmd_set_pressure(s, NAN); }
+static int32_t pressure_inf(gfmd_sim *s) { return gfmd_set_pressure(s, INFINITY); }
+static int32_t adhesion_negative(gfmd_sim *s) { return gfmd_set_adhesion(s, -1e-3, 0.5); }
+static int32_t adhesion_nan(gfmd_sim *s) { return gfmd_set_adhesion(s, NAN, 0.5); }
+static int32_t adhesion_rho_zero(gfmd_sim *s) { return gfmd_set_adhesion(s, 1e-3, 0.0); }
+static int32_t adhesion_rho_inf(gfmd_sim *s) { return gfmd_set_adhesion(s, 1e-3, INFINITY); }
+static int32_t adhesion_overflow(gfmd_sim *s) { return gfmd_set_adhesion(s, 1e300, 1e-300); }
+static int32_t timestep_negative(gfmd_sim *s) { return gfmd_set_timestep(s, -1.0); }
+static int32_t timestep_nan(gfmd_sim *s) { return gfmd_set_timestep(s, NAN); }
+static int32_t damping_negative(gfmd_sim *s) { return gfmd_set_damping(s, -1.0); }
+static int32_t damping_inf(gfmd_sim *s) { return gfmd_set_damping(s, INFINITY); }
+static int32_t solver_unknown(gfmd_sim *s) { return gfmd_set_solver(s, 5); }
+static int32_t threads_negative(gfmd_sim *s) { return gfmd_set_threads(s, -1); }
+static int32_t threads_too_many(gfmd_sim *s) { return gfmd_set_threads(s, 5000); }
+static int32_t planner_unknown(gfmd_sim *s) { return gfmd_set_fft_planner(s, 9); }
+static int32_t step_negative(gfmd_sim *s) { return gfmd_step(s, -1); }
+static int32_t relax_nan_tol(gfmd_sim *s) { return gfmd_relax(s, NAN, 10, NULL); }
+static int32_t relax_no_steps(gfmd_sim *s) { return gfmd_relax(s, 0.0, 0, NULL); }
+static int32_t persson_negative(gfmd_sim *s) {
+    double a = 0.0;
+    return gfmd_persson_contact_area(s, -1.0, &a);
+}
+static int32_t persson_null(gfmd_sim *s) { return gfmd_persson_contact_area(s, 0.1, NULL); }
+static int32_t save_nowhere(gfmd_sim *s) { return gfmd_sim_save(s, "no/such/dir/x.gfmd"); }
+static int32_t clone_null(gfmd_sim *s) { return gfmd_sim_clone(s, NULL); }
+
+static const failing CALLS[] = {
+    {"modulus NaN", GFMD_ERR_INVALID_ARG, modulus_nan},
+    {"modulus inf", GFMD_ERR_INVALID_ARG, modulus_inf},
+    {"modulus 0", GFMD_ERR_INVALID_ARG, modulus_zero},
+    {"modulus < 0", GFMD_ERR_INVALID_ARG, modulus_negative},
+    {"modulus overflowing the stresses", GFMD_ERR_RANGE, modulus_overflow},
+    {"unknown Green's kind", GFMD_ERR_BAD_ENUM, green_unknown},
+    {"layer width 0", GFMD_ERR_INVALID_ARG, green_width_zero},
+    {"layer width < 0", GFMD_ERR_INVALID_ARG, green_width_negative},
+    {"layer width NaN", GFMD_ERR_INVALID_ARG, green_width_nan},
+    {"layer width inf", GFMD_ERR_INVALID_ARG, green_width_inf},
+    {"bonded layer without Poisson's ratio", GFMD_ERR_STATE, green_bonded_without_nu},
+    {"Poisson -1", GFMD_ERR_INVALID_ARG, poisson_low},
+    {"Poisson 0.51", GFMD_ERR_INVALID_ARG, poisson_high},
+    {"Poisson NaN", GFMD_ERR_INVALID_ARG, poisson_nan},
+    {"heights NULL", GFMD_ERR_NULL, heights_null},
+    {"a NaN height", GFMD_ERR_INVALID_ARG, heights_nan},
+    {"a height above 1e100", GFMD_ERR_INVALID_ARG, heights_huge},
+    {"an infinite height", GFMD_ERR_INVALID_ARG, heights_inf},
+    {"hurst < 0", GFMD_ERR_INVALID_ARG, gen_hurst_low},
+    {"hurst > 1", GFMD_ERR_INVALID_ARG, gen_hurst_high},
+    {"hurst NaN", GFMD_ERR_INVALID_ARG, gen_hurst_nan},
+    {"lambda_r < lambda_s", GFMD_ERR_INVALID_ARG, gen_lr_below_ls},
+    {"lambda_r 1e300", GFMD_ERR_INVALID_ARG, gen_lr_huge},
+    {"lambda_r inf", GFMD_ERR_INVALID_ARG, gen_lr_inf},
+    {"lambda_s below two spacings", GFMD_ERR_INVALID_ARG, gen_ls_below_grid},
+    {"lambda_s beyond the cell", GFMD_ERR_INVALID_ARG, gen_ls_above_cell},
+    {"rms gradient 0", GFMD_ERR_INVALID_ARG, gen_gradient_zero},
+    {"rms gradient NaN", GFMD_ERR_INVALID_ARG, gen_gradient_nan},
+    {"rms gradient times cell above 1e100", GFMD_ERR_INVALID_ARG, gen_gradient_huge},
+    {"unknown distribution", GFMD_ERR_BAD_ENUM, gen_distribution},
+    {"pressure < 0", GFMD_ERR_INVALID_ARG, pressure_negative},
+    {"pressure NaN", GFMD_ERR_INVALID_ARG, pressure_nan},
+    {"pressure inf", GFMD_ERR_INVALID_ARG, pressure_inf},
+    {"gamma0 < 0", GFMD_ERR_INVALID_ARG, adhesion_negative},
+    {"gamma0 NaN", GFMD_ERR_INVALID_ARG, adhesion_nan},
+    {"rho 0", GFMD_ERR_INVALID_ARG, adhesion_rho_zero},
+    {"rho inf", GFMD_ERR_INVALID_ARG, adhesion_rho_inf},
+    {"adhesive stiffness overflowing", GFMD_ERR_RANGE, adhesion_overflow},
+    {"dt < 0", GFMD_ERR_INVALID_ARG, timestep_negative},
+    {"dt NaN", GFMD_ERR_INVALID_ARG, timestep_nan},
+    {"damping < 0", GFMD_ERR_INVALID_ARG, damping_negative},
+    {"damping inf", GFMD_ERR_INVALID_ARG, damping_inf},
+    {"unknown solver", GFMD_ERR_BAD_ENUM, solver_unknown},
+    {"threads < 0", GFMD_ERR_INVALID_ARG, threads_negative},
+    {"threads > 4096", GFMD_ERR_INVALID_ARG, threads_too_many},
+    {"unknown planner", GFMD_ERR_BAD_ENUM, planner_unknown},
+    {"steps < 0", GFMD_ERR_INVALID_ARG, step_negative},
+    {"relax tol NaN", GFMD_ERR_INVALID_ARG, relax_nan_tol},
+    {"relax max_steps 0", GFMD_ERR_INVALID_ARG, relax_no_steps},
+    {"Persson at sigma0 < 0", GFMD_ERR_INVALID_ARG, persson_negative},
+    {"Persson into NULL", GFMD_ERR_NULL, persson_null},
+    {"save into a missing folder", GFMD_ERR_IO, save_nowhere},
+    {"clone into NULL", GFMD_ERR_NULL, clone_null},
+};
+
+static void every_failure_changes_nothing(void **state) {
+    (void)state;
+    gfmd_sim *a = make_twin(), *b = make_twin();
+    same_state(a, b, "creation");
+    for (size_t i = 0; i < sizeof CALLS / sizeof CALLS[0]; ++i) {
+        const int32_t st = CALLS[i].call(a);
+        if (st != CALLS[i].expected)
+            fail_msg("%s: got %s, expected %s", CALLS[i].what, gfmd_status_string(st),
+                     gfmd_status_string(CALLS[i].expected));
+        char msg[256] = "";
+        assert_int_equal(gfmd_last_error(a, msg, sizeof msg) == GFMD_ERR_NULL, 0);
+        if (msg[0] == '\0') fail_msg("%s: no message recorded", CALLS[i].what);
+        same_state(a, b, CALLS[i].what);
+    }
+    gfmd_sim_destroy(&a);
+    gfmd_sim_destroy(&b);
+}
+
+/* A run that diverges (damped dynamics at 50 times its automatic time step, far beyond the
+ * stability limit) restores the configuration and the solver's state of the call's start. */
+static void divergence_changes_nothing(void **state) {
+    (void)state;
+    gfmd_sim *a = make_twin(), *b = make_twin();
+    double dt = 0.0;
+    TS_OK(a, gfmd_get_dynamics(a, &dt, NULL));
+    gfmd_sim *both[2] = {a, b};
+    for (int i = 0; i < 2; ++i) {
+        TS_OK(both[i], gfmd_set_solver(both[i], GFMD_SOLVER_VERLET));
+        TS_OK(both[i], gfmd_step(both[i], 7));
+        TS_OK(both[i], gfmd_set_timestep(both[i], 50.0 * dt));
+    }
+    assert_int_equal(gfmd_step(a, 100000), GFMD_ERR_DIVERGED);
+    TS_OK(a, gfmd_set_timestep(a, dt)); /* both back to a stable step, for the steps of same_state */
+    TS_OK(b, gfmd_set_timestep(b, dt));
+    same_state(a, b, "a diverged run");
+    gfmd_sim_destroy(&a);
+    gfmd_sim_destroy(&b);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(every_failure_changes_nothing),
+        cmocka_unit_test(divergence_changes_nothing),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
