@@ -55,7 +55,7 @@ GFMD_API const char *gfmd_status_string(int32_t status);
 
 /**
  * Copy the message of the last failed call on @p s into @p buf (capacity @p len bytes).
- * The copy is always NUL-terminated when len >= 1.  Returns GFMD_OK, or GFMD_ERR_TRUNCATED when
+ * The copy is always NUL-terminated when len >= 1 (with s == NULL too: then "" and GFMD_ERR_NULL).  Returns GFMD_OK, or GFMD_ERR_TRUNCATED when
  * the message did not fit (use gfmd_last_error_length()).  The message is "" if no call on the
  * handle has failed yet; a successful call does not clear it.
  */

@@ -90,8 +90,10 @@ const char *gfmd_status_string(int32_t status) {
 }
 
 int32_t gfmd_last_error(const gfmd_sim *s, char *buf, int64_t len) {
-    if (s == nullptr || buf == nullptr) return GFMD_ERR_NULL;
+    if (buf == nullptr) return GFMD_ERR_NULL;
     if (len <= 0) return GFMD_ERR_INVALID_ARG;
+    buf[0] = '\0';  // terminated on every path that can write
+    if (s == nullptr) return GFMD_ERR_NULL;
     const std::string &m = s->last_error;
     const std::size_t cap = static_cast<std::size_t>(len) - 1;
     const std::size_t n = m.size() < cap ? m.size() : cap;

@@ -81,8 +81,10 @@ public:
         reduce(s.data(), K);
         return s;
     }
-    // The one global reduction: sums x[0..k) over all processes (serial: nothing to do).
+    // The one global reduction: sums x[0..k) over all processes (serial: nothing to do); and its
+    // twin for extremes, x[i] = the largest over all processes.
     void reduce(double *, int) const {}
+    void reduce_max(double *, int) const {}
 
     // Wave vector components of complex index (kx, ky), kx in [0, nxh), ky in [0, ny).
     double qx(int64_t kx) const { return 2.0 * kPi * static_cast<double>(kx) / lx_; }

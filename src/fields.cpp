@@ -46,8 +46,9 @@ Fields::Fields(const FftGrid &grid)
     : h(points(grid)), z(points(grid)), v(points(grid)), f(points(grid)),
       work(static_cast<std::size_t>(grid.complex_size())) {}
 
-void Fields::put_flat_at_rest() {
-    const double top = *std::max_element(h.data(), h.data() + h.size());
+void Fields::put_flat_at_rest(const FftGrid &grid) {
+    double top = *std::max_element(h.data(), h.data() + h.size());
+    grid.reduce_max(&top, 1);
     std::fill(z.data(), z.data() + z.size(), top);
     std::fill(v.data(), v.data() + v.size(), 0.0);
 }

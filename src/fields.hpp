@@ -28,7 +28,7 @@ struct Fields {
     ComplexBuffer work;    // FFT scratch, meaningful only inside one computation
 
     // The body flat at the highest substrate point, at rest.
-    void put_flat_at_rest();
+    void put_flat_at_rest(const FftGrid &grid);
 };
 
 // z and v at the start of a call, to restore them if the call fails half-way (the dynamics

@@ -133,6 +133,10 @@ Body make_body(const FftGrid &grid, int32_t kind, double width, double e_star, d
         if (b.stiffness[c] > 0.0) b.k_min = std::min(b.k_min, b.stiffness[c]);
         b.k_max = std::max(b.k_max, b.stiffness[c]);
     }
+    double extremes[2] = {-b.k_min, b.k_max};
+    grid.reduce_max(extremes, 2);
+    b.k_min = -extremes[0];
+    b.k_max = extremes[1];
     if (b.k_max == 0.0) {  // a single grid point, or every mode underflowed: use the cell's scale
         b.k_max = e_star * kPi / std::sqrt(grid.cell_area());
         b.k_min = b.k_max;

@@ -45,7 +45,7 @@ Simulation::Simulation(int64_t nx, int64_t ny, double lx, double ly, int threads
       fields_(grid_),
       undo_(grid_),
       solver_(make_solver(params_.solver, grid_, dynamics_)) {
-    fields_.put_flat_at_rest();
+    fields_.put_flat_at_rest(grid_);
     refresh_forces();
 }
 
@@ -146,7 +146,7 @@ void Simulation::change_substrate(RealBuffer &&h) {
         "this substrate",
         [&] {
             std::swap(fields_.h, h);
-            fields_.put_flat_at_rest();
+            fields_.put_flat_at_rest(grid_);
         },
         [&] {
             std::swap(fields_.h, h);
@@ -230,7 +230,7 @@ void Simulation::reset() {
     // Even a flat surface can overflow: the FFT's rounding leaves modes of order eps * max h,
     // which an extreme E* turns into infinite stresses (a fuzz finding). Undo if so.
     undo_.save(fields_);
-    change("resetting the surface", [&] { fields_.put_flat_at_rest(); }, [&] { undo_.restore(fields_); });
+    change("resetting the surface", [&] { fields_.put_flat_at_rest(grid_); }, [&] { undo_.restore(fields_); });
 }
 
 void Simulation::diverged(int64_t step, const std::vector<double> &solver_state) {

@@ -38,6 +38,7 @@ void FireMass::update_mass_floor(const StepContext &c) {
             if (qx * qx + qy * qy <= qc2) kc = std::max(kc, stiff[static_cast<std::size_t>(r * nxh + kx)]);
         }
     }
+    grid.reduce_max(&kc, 1);
     floor_ = std::min(std::max(kc, c.body.k_min), c.body.k_max);
     // omega^2 = k(q)/m(q) <= 1 for the elastic modes.  The adhesive law's stiffness is local: a
     // single point's acceleration per unit force is the real-space diagonal of M^-1, the mean of

@@ -99,7 +99,9 @@ static void null_handle(void **state) {
     assert_int_equal(gfmd_get_gap(NULL, f), GFMD_ERR_NULL);
     assert_int_equal(gfmd_get_surface(NULL, f), GFMD_ERR_NULL);
     assert_int_equal(gfmd_get_pressure(NULL, f), GFMD_ERR_NULL);
+    memset(buf, 'x', sizeof buf);
     assert_int_equal(gfmd_last_error(NULL, buf, sizeof buf), GFMD_ERR_NULL);
+    assert_int_equal(buf[0], '\0'); /* the caller's buffer is terminated on every failure that can write */
     assert_int_equal(gfmd_last_error_length(NULL, &i), GFMD_ERR_NULL);
     gfmd_sim_destroy(NULL); /* accepted */
     gfmd_sim *none = NULL;

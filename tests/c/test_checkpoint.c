@@ -2,6 +2,8 @@
  * files (truncated, corrupted, another version, not a checkpoint, missing) are refused with their
  * own status and a message, never a crash. */
 #include <math.h>
+#include <signal.h>
+#include <sys/resource.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -235,12 +237,40 @@ static void forged_headers_are_refused(void **state) {
     remove(PATH);
 }
 
+/* A save that fails half-way (the file size limit reached while writing the fields) reports
+ * GFMD_ERR_IO and leaves neither the checkpoint nor its temporary file behind. */
+static void failed_save_leaves_nothing(void **state) {
+    (void)state;
+    gfmd_sim *a = make(GFMD_SOLVER_FIRE);
+    remove(PATH);
+    struct rlimit old;
+    assert_int_equal(getrlimit(RLIMIT_FSIZE, &old), 0);
+    void (*old_handler)(int) = signal(SIGXFSZ, SIG_IGN); /* a write beyond the limit fails with EFBIG */
+    struct rlimit small = old;
+    small.rlim_cur = 4096; /* the header fits, the fields (3 x 7680 bytes) do not */
+    assert_int_equal(setrlimit(RLIMIT_FSIZE, &small), 0);
+    const int32_t st = gfmd_sim_save(a, PATH);
+    assert_int_equal(setrlimit(RLIMIT_FSIZE, &old), 0);
+    signal(SIGXFSZ, old_handler);
+    assert_int_equal(st, GFMD_ERR_IO);
+    char tmp[256];
+    snprintf(tmp, sizeof tmp, "%s.tmp", PATH);
+    FILE *f = fopen(tmp, "rb");
+    assert_null(f);
+    f = fopen(PATH, "rb");
+    assert_null(f);
+    TS_OK(a, gfmd_sim_save(a, PATH)); /* the handle still saves once the limit is gone */
+    remove(PATH);
+    gfmd_sim_destroy(&a);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(restart_is_bit_exact),
         cmocka_unit_test(damaged_files_are_refused),
         cmocka_unit_test(format1_files_resume),
         cmocka_unit_test(forged_headers_are_refused),
+        cmocka_unit_test(failed_save_leaves_nothing),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
