@@ -4,6 +4,13 @@
  *
  *   gfmd_bench [--sizes 256,512,1024,2048] [--big] [--widths 0,0.5,1,4] [--threads N]
  *              [--cg-seconds S] [--no-cg] [--sigma0 S] [--solver fire|mass|verlet]
+ *   gfmd_bench --contention [--sizes 512,1024,2048]
+ *
+ * --contention: threads on a shared machine.  For each size, a half-space (seed 1, sigma0 = 0.05)
+ * is created (planning included) and relaxed from flat to the default tolerance with one thread
+ * and with the default thread count, on a quiet machine and while a busy-loop competitor (a child
+ * process started and stopped by the benchmark, pinned to the last CPU this process may use, and
+ * ending itself after 10 minutes at the latest) keeps one core busy.
  *
  * Problem: self-affine, H = 0.8, lambda_s = 4a, lambda_r = n a/8, rms gradient 1,
  * E* = 1, sigma0 = 0.05 (--sigma0); W = w/lambda_s, 0 = half-space.  The "fft" column is the
@@ -11,6 +18,7 @@
  * untimed GFMD relaxation to 1e-10.  Then, from the same start, GFMD (in chunks of 5 steps) and
  * CG are timed: the time after which A/A0 stays within 0.1 % of the converged value ("to 0.1 %",
  * the speed-up compares these), and GFMD also until its default tolerance. */
+#define _GNU_SOURCE /* sched_setaffinity, CPU_SET */
 #include <fftw3.h>
 #include <gfmd.h>
 #include <math.h>
@@ -18,6 +26,11 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+
+#include <sched.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "cg_reference.h"
 
@@ -89,9 +102,83 @@ static void die(gfmd_sim *s, int32_t st, const char *what) {
     exit(1);
 }
 
+/* A child process spinning on the last CPU of this process's affinity mask; -1 if none started. */
+static pid_t start_competitor(void) {
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    if (sched_getaffinity(0, sizeof set, &set) != 0) return -1;
+    int last = -1;
+    for (int c = 0; c < CPU_SETSIZE; ++c)
+        if (CPU_ISSET(c, &set)) last = c;
+    const pid_t pid = fork();
+    if (pid == 0) {
+        cpu_set_t one;
+        CPU_ZERO(&one);
+        CPU_SET(last, &one);
+        sched_setaffinity(0, sizeof one, &one);
+        alarm(600); /* bounded: ends itself even if the benchmark dies */
+        volatile unsigned long x = 0;
+        for (;;) x = x * 1664525UL + 1013904223UL;
+    }
+    usleep(100000); /* let it reach its core */
+    return pid;
+}
+
+static void stop_competitor(pid_t pid) {
+    if (pid <= 0) return;
+    kill(pid, SIGKILL);
+    waitpid(pid, NULL, 0);
+}
+
+/* create (with planning) and relax of the contention table; returns the seconds of each */
+static void create_and_relax(int n, int threads, double *t_create, double *t_relax, long long *steps) {
+    fftw_forget_wisdom(); /* every configuration plans afresh: the create column is the planning's cost */
+    const double l = n, t0 = now();
+    gfmd_sim *s = NULL;
+    int32_t st;
+    if ((st = gfmd_sim_create_ex(n, n, l, l, threads, GFMD_PLANNER_MEASURE, &s)) != GFMD_OK) die(NULL, st, "create");
+    *t_create = now() - t0;
+    if ((st = gfmd_generate_selfaffine(s, 0.8, l / 8.0, 4.0, 1.0, 1, GFMD_DIST_UNIFORM)) != GFMD_OK) die(s, st, "substrate");
+    if ((st = gfmd_set_pressure(s, 0.05)) != GFMD_OK) die(s, st, "pressure");
+    int64_t k = 0;
+    const double t1 = now();
+    if ((st = gfmd_relax(s, 0.0, 10000000, &k)) != GFMD_OK) die(s, st, "relax");
+    *t_relax = now() - t1;
+    *steps = (long long)k;
+    gfmd_sim_destroy(&s);
+}
+
+static int contention_table(const double *sizes, int nsizes) {
+    gfmd_sim *probe = NULL;
+    int32_t def = 0;
+    if (gfmd_sim_create_ex(8, 8, 8.0, 8.0, 0, GFMD_PLANNER_ESTIMATE, &probe) != GFMD_OK ||
+        gfmd_get_threads(probe, &def) != GFMD_OK)
+        die(probe, GFMD_ERR_INTERNAL, "default threads");
+    gfmd_sim_destroy(&probe);
+    printf("gfmd %s: threads on a shared machine; half-space, seed 1, sigma0 = 0.05, FFTW_MEASURE; default = %d "
+           "thread(s)\n", gfmd_version(), (int)def);
+    printf("%5s %7s | %6s | %9s %9s | %9s %9s | %s\n", "n", "threads", "steps", "quiet: create", "relax",
+           "busy core: create", "relax", "relax / 1-thread relax (quiet, busy)");
+    for (int a = 0; a < nsizes; ++a) {
+        const int n = (int)sizes[a];
+        double tc[2][2], tr[2][2];
+        long long steps[2][2];
+        for (int busy = 0; busy < 2; ++busy) {
+            const pid_t competitor = busy ? start_competitor() : -1;
+            for (int c = 0; c < 2; ++c) create_and_relax(n, c == 0 ? 1 : 0, &tc[c][busy], &tr[c][busy], &steps[c][busy]);
+            stop_competitor(competitor);
+        }
+        for (int c = 0; c < 2; ++c)
+            printf("%5d %7s | %6lld | %13.3f %9.3f | %17.3f %9.3f | %.2f, %.2f\n", n, c == 0 ? "1" : "default",
+                   steps[c][0], tc[c][0], tr[c][0], tc[c][1], tr[c][1], tr[c][0] / tr[0][0], tr[c][1] / tr[0][1]);
+        fflush(stdout);
+    }
+    return 0;
+}
+
 int main(int argc, char **argv) {
     double sizes[8] = {256, 512, 1024, 2048}, widths[8] = {0, 0.5, 1, 4};
-    int nsizes = 4, nwidths = 4, threads = 1, cg = 1;
+    int nsizes = 4, nwidths = 4, threads = 1, cg = 1, contention = 0;
     double cg_seconds = 120.0, sigma0 = 0.05;
     int32_t solver = GFMD_SOLVER_FIRE;
     const char *solver_names[] = {"Verlet", "FIRE", "mass-weighted FIRE"};
@@ -102,6 +189,7 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--threads") && i + 1 < argc) threads = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--cg-seconds") && i + 1 < argc) cg_seconds = atof(argv[++i]);
         else if (!strcmp(argv[i], "--no-cg")) cg = 0;
+        else if (!strcmp(argv[i], "--contention")) contention = 1;
         else if (!strcmp(argv[i], "--sigma0") && i + 1 < argc) sigma0 = atof(argv[++i]);
         else if (!strcmp(argv[i], "--solver") && i + 1 < argc) {
             ++i;
@@ -115,6 +203,7 @@ int main(int argc, char **argv) {
             return 2;
         }
     }
+    if (contention) return contention_table(sizes, nsizes);
     if (threads < 1) threads = 1;
     /* FFT pairs per step: mass weighting transforms the projected force as well */
     const int pairs = (solver == GFMD_SOLVER_FIRE_MASS) ? 2 : 1;

@@ -25,6 +25,9 @@
  * Distinct handles are independent and may be used from different threads at the same time.  One
  * handle must be used by one thread at a time (including the const getters, which may record an
  * error message).  FFTW planning, which is not thread-safe, is serialized inside the library.
+ * The library installs FFTW's spawn-loop callback (fftw_threads_set_callback) so that its own
+ * transforms run on the handle's threads; other threaded FFTW plans of the process run as with
+ * FFTW's OpenMP backend.
  */
 #ifndef GFMD_H
 #define GFMD_H
@@ -207,11 +210,13 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
 GFMD_API int32_t gfmd_set_solver(gfmd_sim *s, int32_t solver);
 
 /**
- * Threads used by this handle: FFTW's transforms and the library's own loops (OpenMP).  0 (the
- * default) uses all the machine's cores, or OMP_NUM_THREADS if that is set (e.g. to 1 when
- * running one process per core).  Results do not depend on the thread count of the
- * library's loops (sums are formed in fixed blocks); FFTW may round differently with threads.
- * Re-plans the transforms.
+ * Threads used by this handle: FFTW's transforms and the library's own loops, on a pool of threads
+ * the handle owns (threads that wait yield their core, so a core shared with another process does
+ * not stall the others).  0 (the default) uses OMP_NUM_THREADS if that is set (e.g. to 1 when
+ * running one process per core), otherwise the CPUs the process may run on (its affinity mask),
+ * bounded by a cgroup CPU quota.  Results do not depend on the thread count of the library's loops
+ * (sums are formed in fixed blocks); FFTW may round differently with threads.  Re-plans the
+ * transforms: to plan once, give the threads to gfmd_sim_create_ex().
  */
 GFMD_API int32_t gfmd_set_threads(gfmd_sim *s, int32_t nthreads);
 

@@ -27,7 +27,11 @@ constexpr int64_t kMinPointsForThreads = 128 * 128;
 // FFTW's threads, initialized once before any plan or wisdom (wisdom exported with threads only
 // imports into a process whose threads are initialized).  Call with the planner mutex held.
 bool threads_ready() {
-    static const bool ready = fftw_init_threads() != 0;
+    static const bool ready = [] {
+        if (fftw_init_threads() == 0) return false;
+        install_fftw_callback();
+        return true;
+    }();
     return ready;
 }
 
@@ -76,10 +80,7 @@ int resolve_threads(int threads) {
         fail(GFMD_ERR_INVALID_ARG, "threads must be in [0, " + std::to_string(kMaxThreads) +
                                        "] (0 = all cores), got " + std::to_string(threads));
     if (threads > 0) return threads;
-    // "All cores": the machine's cores, unless the user limited OpenMP (OMP_NUM_THREADS), e.g. to
-    // run one process per core.
-    const int n = omp_get_max_threads();
-    return n > 0 ? n : 1;
+    return default_threads();
 }
 
 void validate_grid(int64_t nx, int64_t ny, double lx, double ly) {
@@ -102,16 +103,17 @@ bool export_wisdom(const char *path) {
 }
 
 FftGrid::FftGrid(int64_t nx, int64_t ny, double lx, double ly, int threads, int32_t planner)
-    : nx_((validate_grid(nx, ny, lx, ly), nx)), ny_(ny), lx_(lx), ly_(ly), threads_(resolve_threads(threads)),
+    : nx_((validate_grid(nx, ny, lx, ly), nx)), ny_(ny), lx_(lx), ly_(ly),
+      pool_(std::make_unique<ThreadPool>(resolve_threads(threads))),
       planner_((validate_planner(planner), planner)), rows_per_block_(std::max<int64_t>(1, kBlock / (nx / 2 + 1))) {
     if (nx > INT_MAX || ny > INT_MAX) fail(GFMD_ERR_INVALID_ARG, "grid dimension exceeds FFTW's int range");
     // Enough partial sums for the largest reduction: 6 sums per block of points or of mode rows.
     sums_ = RealBuffer(static_cast<std::size_t>(
         6 * std::max(block_count(local_points(), kBlock), block_count(local_mode_rows(), rows_per_block_))));
-    make_plans(threads_, planner_, r2c_, c2r_);
+    make_plans(*pool_, planner_, r2c_, c2r_);
 }
 
-void FftGrid::make_plans(int threads, int32_t planner, fftw_plan &r2c, fftw_plan &c2r) const {
+void FftGrid::make_plans(ThreadPool &pool, int32_t planner, fftw_plan &r2c, fftw_plan &c2r) const {
     // Planned on scratch arrays (FFTW_MEASURE overwrites them), executed later with new-array
     // execution on other fftw_malloc-aligned buffers of the same size.
     RealBuffer r(static_cast<std::size_t>(real_size()));
@@ -119,7 +121,8 @@ void FftGrid::make_plans(int threads, int32_t planner, fftw_plan &r2c, fftw_plan
     auto *cc = reinterpret_cast<fftw_complex *>(c.data());
     const unsigned flags = planner_flags(planner);
     std::lock_guard<std::mutex> lock(planner_mutex());
-    if (threads_ready()) fftw_plan_with_nthreads(real_size() >= kMinPointsForThreads ? threads : 1);
+    if (threads_ready()) fftw_plan_with_nthreads(real_size() >= kMinPointsForThreads ? pool.size() : 1);
+    PoolScope scope(&pool);  // MEASURE executes the candidates: on the pool they will run on
     WisdomAside aside(planner == GFMD_PLANNER_ESTIMATE);
     r2c = fftw_plan_dft_r2c_2d(static_cast<int>(ny_), static_cast<int>(nx_), r.data(), cc, flags);
     c2r = fftw_plan_dft_c2r_2d(static_cast<int>(ny_), static_cast<int>(nx_), cc, r.data(), flags);
@@ -134,9 +137,15 @@ void FftGrid::make_plans(int threads, int32_t planner, fftw_plan &r2c, fftw_plan
 void FftGrid::replan(int threads, int32_t planner) {
     const int t = resolve_threads(threads);
     validate_planner(planner);
+    auto pool = (t == pool_->size()) ? std::move(pool_) : std::make_unique<ThreadPool>(t);
     fftw_plan r2c = nullptr, c2r = nullptr;
-    make_plans(t, planner, r2c, c2r);
-    threads_ = t;
+    try {
+        make_plans(*pool, planner, r2c, c2r);
+    } catch (...) {
+        if (!pool_) pool_ = std::move(pool);  // the same pool: give it back
+        throw;
+    }
+    pool_ = std::move(pool);
     planner_ = planner;
     std::lock_guard<std::mutex> lock(planner_mutex());
     fftw_destroy_plan(r2c_);
@@ -153,10 +162,12 @@ FftGrid::~FftGrid() {
 
 void FftGrid::forward(const double *in, std::complex<double> *out) const {
     // FFTW's new-array execute takes a non-const input; r2c does not modify it.
+    PoolScope scope(pool_.get());
     fftw_execute_dft_r2c(r2c_, const_cast<double *>(in), reinterpret_cast<fftw_complex *>(out));
 }
 
 void FftGrid::backward(std::complex<double> *in, double *out) const {
+    PoolScope scope(pool_.get());
     fftw_execute_dft_c2r(c2r_, reinterpret_cast<fftw_complex *>(in), out);
 }
 

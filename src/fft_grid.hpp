@@ -12,6 +12,7 @@
 #include <array>
 #include <complex>
 #include <cstdint>
+#include <memory>
 
 #include "buffer.hpp"
 #include "constants.hpp"
@@ -49,7 +50,7 @@ public:
     int64_t complex_size() const { return ny_ * nxh(); }  // complex points
     double cell_area() const { return lx_ * ly_; }
     double area_per_point() const { return lx_ * ly_ / static_cast<double>(nx_ * ny_); }
-    int threads() const { return threads_; }
+    int threads() const { return pool_->size(); }
     int32_t planner() const { return planner_; }
 
     // Local extents.  Real space: the points this process owns, local_points() of them, rows of
@@ -64,20 +65,20 @@ public:
     // body(i0, i1) over the local points [0, local_points()) in fixed blocks, threaded.
     template <class Body>
     void for_points(Body &&body) const {
-        parallel_for(threads_, local_points(), kBlock, body);
+        parallel_for(*pool_, local_points(), kBlock, body);
     }
     // K global sums: body(i0, i1, acc) over local points, or body(r0, r1, acc) over local mode rows,
     // adds its block's terms to acc.  Fixed blocks, added in order, then reduce(): the result does
     // not depend on the thread count.
     template <int K, class Body>
     std::array<double, K> sum_points(Body &&body) const {
-        auto s = parallel_sums<K>(threads_, local_points(), kBlock, sums_.data(), body);
+        auto s = parallel_sums<K>(*pool_, local_points(), kBlock, sums_.data(), body);
         reduce(s.data(), K);
         return s;
     }
     template <int K, class Body>
     std::array<double, K> sum_mode_rows(Body &&body) const {
-        auto s = parallel_sums<K>(threads_, local_mode_rows(), rows_per_block_, sums_.data(), body);
+        auto s = parallel_sums<K>(*pool_, local_mode_rows(), rows_per_block_, sums_.data(), body);
         reduce(s.data(), K);
         return s;
     }
@@ -107,10 +108,10 @@ public:
     void replan(int threads, int32_t planner);
 
 private:
-    void make_plans(int threads, int32_t planner, fftw_plan &r2c, fftw_plan &c2r) const;
+    void make_plans(ThreadPool &pool, int32_t planner, fftw_plan &r2c, fftw_plan &c2r) const;
     int64_t nx_, ny_;
     double lx_, ly_;
-    int threads_;
+    std::unique_ptr<ThreadPool> pool_;  // the loops' and the transforms' threads
     int32_t planner_;
     int64_t rows_per_block_;
     mutable RealBuffer sums_;  // per-block partial sums of the threaded reductions (no allocation per sum)

@@ -69,9 +69,7 @@ static void distinct_handles_in_threads(void **state) {
 
 static void thread_count_does_not_change_the_equilibrium(void **state) {
     (void)state;
-#if defined(__SANITIZE_THREAD__)
-    skip(); /* libgomp is not instrumented for ThreadSanitizer */
-#else
+    /* the library's own thread pool (no libgomp): checked by ThreadSanitizer too */
     /* mass-weighted FIRE on 128^2: two blocks of the library's loops, enough for two threads,
      * and a quarter of the cost under valgrind */
     const struct {
@@ -110,7 +108,6 @@ static void thread_count_does_not_change_the_equilibrium(void **state) {
     TS_OK(s, gfmd_set_threads(s, 0));
     assert_int_equal(gfmd_get_threads(s, NULL), GFMD_ERR_NULL);
     gfmd_sim_destroy(&s);
-#endif
 }
 
 static void wisdom_round_trip(void **state) {
