@@ -7,13 +7,16 @@
 #   scripts/demo.sh [gfmd_paper options, e.g. --n 512 --bandwidth 32]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-"$root/scripts/setup.sh" gnuplot-nox
+"$root/scripts/setup.sh" gnuplot-nox python3-numpy python3-matplotlib
 cmake -S "$root" -B "$root/build" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$root/build" -j "$(nproc)" --target gfmd_paper
 out="$root/build/paper"
 mkdir -p "$out"
 "$root/build/apps/paper/gfmd_paper" --out "$out" "$@" | tee "$out/study.log"
 gnuplot -e "dir='$out'" "$root/apps/paper/plot_paper.gp"
+# Pictures of the contact itself (the Python package on the library just built)
+GFMD_LIBRARY="$root/build/libgfmd.so" MPLBACKEND=Agg PYTHONDONTWRITEBYTECODE=1 /usr/bin/python3 \
+  "$root/examples/python/contact_maps.py" --out "$out"
 echo
 echo "tables: $out/*.csv"
-echo "plots:  $(cd "$out" && ls fig*.png | sed "s|^|$out/|" | tr '\n' ' ')"
+echo "plots:  $(cd "$out" && ls fig*.png contact_maps.png | sed "s|^|$out/|" | tr '\n' ' ')"

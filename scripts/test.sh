@@ -6,7 +6,7 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 jobs="$(nproc)"
-"$root/scripts/setup.sh" valgrind
+"$root/scripts/setup.sh" valgrind python3-numpy python3-pytest python3-matplotlib
 passed=0
 failed=0
 # run_ctest DIR: ctest in DIR; its exit status decides (every test in it passed, or not)

@@ -7,6 +7,10 @@ set datafile separator ","
 set grid
 set key outside right top
 name(w) = (w eq "0") ? "half-space" : sprintf("W = %s", w)
+# 13 distinct colours, one per body (gnuplot's own 8 line colours repeat): from the half-space,
+# black, through the thick layers (blues, greens) to the thinnest sheets (oranges, reds, purples)
+colours = "#000000 #1f3b8c #1f77b4 #17becf #2ca02c #7fbf3f #bcbd22 #e6b800 #ff7f0e #d95f02 #d62728 #e377c2 #7b2d8e"
+colour(i) = word(colours, (i - 1) % words(colours) + 1)
 sel(w, col) = (strcol(2) eq w) ? column(col) : NaN
 f3 = dir.'/fig3_area.csv'
 
@@ -19,16 +23,16 @@ set format y "10^{%L}"
 set xlabel "sigma_0 / (E* g)"
 set ylabel "A / A_0"
 plot for [i=1:words(widths)] f3 using (sel(word(widths,i),4)):(sel(word(widths,i),5)) \
-       with linespoints pt (i % 7 + 4) ps 0.8 lc i title name(word(widths,i)), \
+       with linespoints pt (i % 7 + 4) ps 0.8 lc rgb colour(i) title name(word(widths,i)), \
      for [i=1:words(widths)] dir.'/persson_curves.csv' using (sel(word(widths,i),3)):(sel(word(widths,i),4)) \
-       with lines dt 2 lc i notitle
+       with lines dt 2 lc rgb colour(i) notitle
 
 # Fig. 4: A (A0 - A) / A0^2 against the load
 set output dir.'/fig4.png'
 set title "A(A_0 - A)/A_0^2 against the load"
 set ylabel "A (A_0 - A) / A_0^2"
 plot for [i=1:words(widths)] dir.'/fig4_area_complement.csv' using (sel(word(widths,i),3)):(sel(word(widths,i),5)) \
-       with linespoints pt (i % 7 + 4) ps 0.8 lc i title name(word(widths,i))
+       with linespoints pt (i % 7 + 4) ps 0.8 lc rgb colour(i) title name(word(widths,i))
 
 # Fig. 5a: the collapse, load multiplied by c(W)
 set output dir.'/fig5a.png'
@@ -36,7 +40,7 @@ set title "Collapse: A/A_0 against c(W) sigma_0/(E* g)"
 set xlabel "c(W) sigma_0 / (E* g)"
 set ylabel "A / A_0"
 plot for [i=1:words(widths)] dir.'/fig5a_collapse.csv' using (sel(word(widths,i),4)):(sel(word(widths,i),5)) \
-       with points pt (i % 7 + 4) ps 0.8 lc i title name(word(widths,i))
+       with points pt (i % 7 + 4) ps 0.8 lc rgb colour(i) title name(word(widths,i))
 
 # Fig. 5b: c(W) and the small-W power law
 set output dir.'/fig5b.png'
@@ -56,7 +60,7 @@ set xlabel "sigma_0 / E*"
 set ylabel "s"
 set key outside right top
 plot for [i=1:words(widths)] dir.'/fig6_separation.csv' using (sel(word(widths,i),3)):(sel(word(widths,i),5)) \
-       with linespoints pt (i % 7 + 4) ps 0.8 lc i title name(word(widths,i))
+       with linespoints pt (i % 7 + 4) ps 0.8 lc rgb colour(i) title name(word(widths,i))
 
 # Fig. 7: theta = U_el/U_ad at three contact areas
 set output dir.'/fig7.png'

@@ -48,6 +48,14 @@ if(FORTRAN)
   run(${WORK}/consumer-f-pc)
 endif()
 
+# Python: the installed package (<prefix>/share/gfmd/python) finds the installed library by itself
+if(PYTHON)
+  set(ENV{PYTHONPATH} "${prefix}/share/gfmd/python")
+  unset(ENV{GFMD_LIBRARY})
+  set(ENV{PYTHONDONTWRITEBYTECODE} 1)
+  run(${PYTHON} ${SOURCE_DIR}/tests/package/python/consumer.py)
+endif()
+
 # add_subdirectory: a static gfmd inside the consumer's own build
 run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/package/subproject -B ${WORK}/subproject -DGFMD_SOURCE=${SOURCE_DIR}
     -DCMAKE_BUILD_TYPE=Debug)

@@ -1,0 +1,406 @@
+"""gfmd from Python: Green's function molecular dynamics for the contact of a rigid rough substrate
+and an elastic half-space or thin layer, over the library's stable C ABI (ctypes, numpy; no
+compiled extension).
+
+    import gfmd
+    with gfmd.Simulation(256, 256, 256.0, 256.0) as sim:
+        sim.generate_selfaffine(0.8, 32.0, 4.0, 1.0, seed=1)
+        sim.set_green(gfmd.LAYER_FLUID, 4.0)
+        sim.set_pressure(0.02)
+        steps = sim.relax()
+        print(sim.contact_area, sim.mean_gap)
+
+Fields are numpy arrays of shape (ny, nx), x fastest, the C layout of the library.  The library is
+found through load_library(path), GFMD_LIBRARY, the source tree's build folder, or the system
+loader (docs/python.md).
+"""
+import ctypes
+import os
+import sys
+
+import numpy as np
+
+from . import _constants, _library
+
+_VALUES, _STATUS_TEXT = _constants.read()
+globals().update(_VALUES)  # every GFMD_* constant of the C header, under its C name
+HALFSPACE = _VALUES["GFMD_GREEN_HALFSPACE"]
+LAYER_FLUID = _VALUES["GFMD_GREEN_LAYER_FLUID"]
+LAYER_BONDED = _VALUES["GFMD_GREEN_LAYER_BONDED"]
+UNIFORM = _VALUES["GFMD_DIST_UNIFORM"]
+GAUSSIAN = _VALUES["GFMD_DIST_GAUSSIAN"]
+VERLET = _VALUES["GFMD_SOLVER_VERLET"]
+FIRE = _VALUES["GFMD_SOLVER_FIRE"]
+FIRE_MASS = _VALUES["GFMD_SOLVER_FIRE_MASS"]
+ESTIMATE = _VALUES["GFMD_PLANNER_ESTIMATE"]
+MEASURE = _VALUES["GFMD_PLANNER_MEASURE"]
+PATIENT = _VALUES["GFMD_PLANNER_PATIENT"]
+DEFAULT_TOL = _VALUES["GFMD_DEFAULT_TOL"]
+
+
+# ------------------------------------------------------------------ errors
+class Error(Exception):
+    """A failed library call: .status (GFMD_ERR_*), .message (the library's own words)."""
+
+    def __init__(self, status, message):
+        self.status, self.message = status, message
+        super().__init__(f"{_STATUS_TEXT.get(status, 'unknown status')}: {message}" if message else
+                         _STATUS_TEXT.get(status, "unknown status"))
+
+
+class NullError(Error, ValueError): pass
+class InvalidArgument(Error, ValueError): pass
+class BadEnum(Error, ValueError): pass
+class StateError(Error): pass
+class OutOfMemory(Error, MemoryError): pass
+class RangeError(Error, ArithmeticError): pass
+class Truncated(Error): pass
+class InternalError(Error): pass
+class FileError(Error, OSError): pass
+class FormatError(Error): pass
+class VersionError(Error): pass
+class Diverged(Error):
+    """The dynamics diverged; the state of the call's start was restored."""
+
+
+class NotConverged(Error):
+    """relax() reached max_steps: .steps were made and kept; another relax() continues."""
+
+    def __init__(self, status, message, steps=0):
+        super().__init__(status, message)
+        self.steps = steps
+
+
+_CLASSES = {
+    "GFMD_ERR_NULL": NullError, "GFMD_ERR_INVALID_ARG": InvalidArgument, "GFMD_ERR_BAD_ENUM": BadEnum,
+    "GFMD_ERR_STATE": StateError, "GFMD_ERR_NOMEM": OutOfMemory, "GFMD_ERR_NOT_CONVERGED": NotConverged,
+    "GFMD_ERR_DIVERGED": Diverged, "GFMD_ERR_RANGE": RangeError, "GFMD_ERR_TRUNCATED": Truncated,
+    "GFMD_ERR_INTERNAL": InternalError, "GFMD_ERR_IO": FileError, "GFMD_ERR_FORMAT": FormatError,
+    "GFMD_ERR_VERSION": VersionError,
+}
+_BY_STATUS = {_VALUES[name]: cls for name, cls in _CLASSES.items()}
+
+
+def _raise(status, message):
+    raise _BY_STATUS.get(status, Error)(status, message)
+
+
+# ------------------------------------------------------------------ the library
+_lib = None
+
+
+def load_library(path=None):
+    """Load libgfmd (from path, if given) and return the ctypes handle; done at first use otherwise."""
+    global _lib
+    if _lib is None or path is not None:
+        _lib = _library.load(path)
+    return _lib
+
+
+def _c():
+    return _lib if _lib is not None else load_library()
+
+
+def version():
+    """The library's version string."""
+    return _c().gfmd_version().decode()
+
+
+def _double_out():
+    return ctypes.c_double()
+
+
+def green_factor(kind, t, nu=0.0):
+    """f(t) of a body (HALFSPACE, LAYER_FLUID, LAYER_BONDED) at t = q w."""
+    f = ctypes.c_double()
+    st = _c().gfmd_green_factor(int(kind), float(t), float(nu), ctypes.byref(f))
+    if st:
+        _raise(st, f"green_factor(kind={kind}, t={t}, nu={nu})")
+    return f.value
+
+
+def least_squares(a, b):
+    """x minimizing ||a x - b|| (a: m x n, full rank) and the residual sum of squares, by LAPACKE."""
+    a = np.asarray(a, dtype=np.float64)
+    b = np.asarray(b, dtype=np.float64)
+    if a.ndim != 2 or b.shape != (a.shape[0],):
+        raise InvalidArgument(_VALUES["GFMD_ERR_INVALID_ARG"], "a must be m x n and b of length m")
+    m, n = a.shape
+    col = np.asfortranarray(a)  # the library takes a column-major A
+    x = np.empty(n)
+    rss = ctypes.c_double()
+    st = _c().gfmd_least_squares(m, n, col.ctypes.data_as(_library.c_double_p),
+                                 np.ascontiguousarray(b).ctypes.data_as(_library.c_double_p),
+                                 x.ctypes.data_as(_library.c_double_p), ctypes.byref(rss))
+    if st:
+        _raise(st, "least_squares")
+    return x, rss.value
+
+
+def import_wisdom(path):
+    st = _c().gfmd_import_wisdom(os.fsencode(path))
+    if st:
+        _raise(st, f"cannot import FFTW wisdom from {path}")
+
+
+def export_wisdom(path):
+    st = _c().gfmd_export_wisdom(os.fsencode(path))
+    if st:
+        _raise(st, f"cannot export FFTW wisdom to {path}")
+
+
+def load(path):
+    """A Simulation restored from a checkpoint written by save() (or by C, Fortran)."""
+    out = ctypes.c_void_p()
+    msg = ctypes.create_string_buffer(512)
+    st = _c().gfmd_sim_load(os.fsencode(path), ctypes.byref(out), msg, len(msg))
+    if st:
+        _raise(st, msg.value.decode(errors="replace"))
+    return Simulation._adopt(out)
+
+
+# ------------------------------------------------------------------ the simulation
+class Simulation:
+    """One GFMD simulation (owns one C handle): nx x ny points on a periodic lx x ly cell.
+
+    threads (0 = the library's default) and planner (ESTIMATE, MEASURE, PATIENT) are fixed before
+    the first FFT plan.  Free it with close() or a with-block; garbage collection frees it too."""
+
+    def __init__(self, nx, ny, lx, ly, threads=0, planner=None):
+        self._h = ctypes.c_void_p()
+        st = _c().gfmd_sim_create_ex(int(nx), int(ny), float(lx), float(ly), int(threads),
+                                     MEASURE if planner is None else int(planner), ctypes.byref(self._h))
+        if st:
+            _raise(st, f"cannot create a {nx} x {ny} simulation on {lx} x {ly}")
+        self._shape = (int(ny), int(nx))
+
+    @classmethod
+    def _adopt(cls, handle):
+        self = cls.__new__(cls)
+        self._h = handle
+        nx, ny = ctypes.c_int64(), ctypes.c_int64()
+        _c().gfmd_get_grid(handle, ctypes.byref(nx), ctypes.byref(ny), None, None)
+        self._shape = (ny.value, nx.value)
+        return self
+
+    # lifetime
+    def close(self):
+        """Free the C handle (idempotent); the object is unusable afterwards."""
+        if getattr(self, "_h", None) and self._h.value:
+            _c().gfmd_sim_destroy(ctypes.byref(self._h))
+
+    def __del__(self):
+        try:
+            self.close()
+        except Exception:  # interpreter shutdown: nothing left to report to
+            pass
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+        return False
+
+    def _handle(self):
+        if not self._h.value:
+            raise StateError(_VALUES["GFMD_ERR_STATE"], "this Simulation was closed")
+        return self._h
+
+    def _call(self, name, *args):
+        st = getattr(_c(), name)(self._handle(), *args)
+        if st:
+            _raise(st, self.last_error())
+        return st
+
+    def last_error(self):
+        """The library's message of the last failed call on this handle."""
+        need = ctypes.c_int64()
+        _c().gfmd_last_error_length(self._handle(), ctypes.byref(need))
+        buf = ctypes.create_string_buffer(max(int(need.value), 1))
+        _c().gfmd_last_error(self._handle(), buf, len(buf))
+        return buf.value.decode(errors="replace")
+
+    def clone(self):
+        """An independent copy in the same state."""
+        out = ctypes.c_void_p()
+        self._call("gfmd_sim_clone", ctypes.byref(out))
+        return Simulation._adopt(out)
+
+    def save(self, path):
+        self._call("gfmd_sim_save", os.fsencode(path))
+
+    @property
+    def shape(self):
+        """(ny, nx), the shape of every field."""
+        return self._shape
+
+    @property
+    def grid(self):
+        """(nx, ny, lx, ly)."""
+        nx, ny, lx, ly = ctypes.c_int64(), ctypes.c_int64(), ctypes.c_double(), ctypes.c_double()
+        self._call("gfmd_get_grid", ctypes.byref(nx), ctypes.byref(ny), ctypes.byref(lx), ctypes.byref(ly))
+        return nx.value, ny.value, lx.value, ly.value
+
+    # the body and the substrate
+    def set_modulus(self, e_star):
+        self._call("gfmd_set_modulus", float(e_star))
+
+    def set_green(self, kind, width=0.0):
+        self._call("gfmd_set_green", int(kind), float(width))
+
+    def set_poisson(self, nu):
+        self._call("gfmd_set_poisson", float(nu))
+
+    def _field_in(self, h):
+        if not isinstance(h, np.ndarray):
+            raise InvalidArgument(_VALUES["GFMD_ERR_INVALID_ARG"], "heights must be a numpy array")
+        if h.dtype != np.float64 or h.shape != self._shape or not h.flags.c_contiguous:
+            raise InvalidArgument(_VALUES["GFMD_ERR_INVALID_ARG"],
+                                  f"heights must be a C-contiguous float64 array of shape {self._shape} (ny, nx), "
+                                  f"got {h.dtype} {h.shape}{'' if h.flags.c_contiguous else ' non-contiguous'}")
+        return h.ctypes.data_as(_library.c_double_p)
+
+    def set_heights(self, h):
+        """The substrate from a (ny, nx) float64 C-contiguous array (read in place, not copied)."""
+        self._call("gfmd_set_heights", self._field_in(h))
+
+    def generate_selfaffine(self, hurst, lambda_r, lambda_s, rms_gradient, seed, distribution=None):
+        """A self-affine substrate (the seed paper's Sec. 2.3); the same seed gives C's surface."""
+        self._call("gfmd_generate_selfaffine", float(hurst), float(lambda_r), float(lambda_s), float(rms_gradient),
+                   int(seed) & 0xFFFFFFFFFFFFFFFF, UNIFORM if distribution is None else int(distribution))
+
+    # load and dynamics
+    def set_pressure(self, sigma0):
+        self._call("gfmd_set_pressure", float(sigma0))
+
+    def set_adhesion(self, gamma0, rho):
+        self._call("gfmd_set_adhesion", float(gamma0), float(rho))
+
+    def set_timestep(self, dt):
+        self._call("gfmd_set_timestep", float(dt))
+
+    def set_damping(self, eta):
+        self._call("gfmd_set_damping", float(eta))
+
+    def set_solver(self, solver):
+        self._call("gfmd_set_solver", int(solver))
+
+    def set_threads(self, n):
+        self._call("gfmd_set_threads", int(n))
+
+    @property
+    def threads(self):
+        t = ctypes.c_int32()
+        self._call("gfmd_get_threads", ctypes.byref(t))
+        return t.value
+
+    def set_fft_planner(self, planner):
+        self._call("gfmd_set_fft_planner", int(planner))
+
+    @property
+    def dynamics(self):
+        """(dt, eta) in effect."""
+        dt, eta = ctypes.c_double(), ctypes.c_double()
+        self._call("gfmd_get_dynamics", ctypes.byref(dt), ctypes.byref(eta))
+        return dt.value, eta.value
+
+    def step(self, n=1):
+        self._call("gfmd_step", int(n))
+
+    def restart_solver(self):
+        self._call("gfmd_restart_solver")
+
+    def reset(self):
+        self._call("gfmd_reset")
+
+    def relax(self, tol=0.0, max_steps=10_000_000, progress=False):
+        """Step until the residual is <= tol (0: DEFAULT_TOL); returns the steps taken.
+
+        Raises NotConverged (with .steps) when max_steps are reached: the progress is kept and
+        another relax() continues the same trajectory.  progress=True (or a number of steps) prints
+        steps, residual and A/A0 every 1000 (or that many) steps; relaxing in chunks costs no extra
+        steps, since every call continues where the last one stopped."""
+        every = 1000 if progress is True else int(progress or 0)
+        total, target = 0, int(max_steps)
+        while True:
+            chunk = min(every, target - total) if every > 0 else target - total
+            taken = ctypes.c_int64()
+            st = _c().gfmd_relax(self._handle(), float(tol), int(chunk), ctypes.byref(taken))
+            total += taken.value
+            if st == 0:
+                if every > 0:
+                    print(f"gfmd: converged after {total} steps, residual {self.residual:.3e}, "
+                          f"A/A0 {self.contact_area:.5f}", file=sys.stderr)
+                return total
+            if st != _VALUES["GFMD_ERR_NOT_CONVERGED"] or total >= target:
+                message = self.last_error()
+                if st == _VALUES["GFMD_ERR_NOT_CONVERGED"]:
+                    raise NotConverged(st, f"not converged after {total} steps: residual {self.residual:.3e}",
+                                       steps=total)
+                _raise(st, message)
+            if every > 0:
+                print(f"gfmd: {total} steps, residual {self.residual:.3e}, A/A0 {self.contact_area:.5f}",
+                      file=sys.stderr)
+
+    # observables
+    def _scalar(self, name):
+        x = ctypes.c_double()
+        self._call(name, ctypes.byref(x))
+        return x.value
+
+    @property
+    def contact_area(self):
+        """A/A0, the fraction of points in contact."""
+        return self._scalar("gfmd_get_contact_area")
+
+    @property
+    def mean_gap(self):
+        return self._scalar("gfmd_get_mean_gap")
+
+    @property
+    def residual(self):
+        return self._scalar("gfmd_get_residual")
+
+    def _energies(self):
+        el, ad = ctypes.c_double(), ctypes.c_double()
+        self._call("gfmd_get_energies", ctypes.byref(el), ctypes.byref(ad))
+        return el.value, ad.value
+
+    @property
+    def elastic_energy(self):
+        return self._energies()[0]
+
+    @property
+    def adhesive_energy(self):
+        return self._energies()[1]
+
+    def _field_out(self, name):
+        out = np.empty(self._shape)
+        self._call(name, out.ctypes.data_as(_library.c_double_p))
+        return out
+
+    def gap(self):
+        """A fresh (ny, nx) array of z - h."""
+        return self._field_out("gfmd_get_gap")
+
+    def surface(self):
+        """A fresh (ny, nx) array of the elastic surface z."""
+        return self._field_out("gfmd_get_surface")
+
+    def pressure(self):
+        """A fresh (ny, nx) array of the pressure the substrate exerts (contact minus adhesion)."""
+        return self._field_out("gfmd_get_pressure")
+
+    def heights(self):
+        """A fresh (ny, nx) array of the substrate heights."""
+        return self._field_out("gfmd_get_heights")
+
+    def persson_variance(self):
+        return self._scalar("gfmd_persson_variance")
+
+    def persson_contact_area(self, sigma0):
+        """Persson's A/A0 for this substrate and body at the load sigma0."""
+        a = ctypes.c_double()
+        self._call("gfmd_persson_contact_area", float(sigma0), ctypes.byref(a))
+        return a.value

@@ -1,0 +1,104 @@
+"""Finding and loading libgfmd, and the C prototypes (ctypes) of the functions the package calls."""
+import ctypes
+import ctypes.util
+import os
+from pathlib import Path
+
+_HERE = Path(__file__).resolve().parent
+
+
+def _candidates(explicit=None):
+    """Where to look, in order: an explicit path, GFMD_LIBRARY, the source tree's build folder,
+    the folder of an installed package, then the system loader."""
+    out = []
+    if explicit:
+        out.append(str(explicit))
+    env = os.environ.get("GFMD_LIBRARY")
+    if env:
+        out.append(env)
+    # python/gfmd in the source tree -> build/; <prefix>/share/gfmd/python/gfmd installed -> <prefix>/lib
+    for folder in (_HERE.parents[1] / "build", _HERE.parents[3] / "lib", _HERE.parents[3] / "lib64"):
+        out.append(str(folder / "libgfmd.so"))
+    found = ctypes.util.find_library("gfmd")
+    out.append(found if found else "libgfmd.so.0")
+    return out
+
+
+def load(explicit=None):
+    """The loaded library; OSError naming every place tried if none works."""
+    tried = []
+    for path in _candidates(explicit):
+        if os.sep in path and not os.path.exists(path):
+            tried.append(f"{path} (no such file)")
+            continue
+        try:
+            lib = ctypes.CDLL(path)
+        except OSError as e:
+            tried.append(f"{path} ({e})")
+            continue
+        _declare(lib)
+        return lib
+    raise OSError("gfmd: cannot load libgfmd; tried:\n  " + "\n  ".join(tried) +
+                  "\nBuild it (cmake --build build) or set GFMD_LIBRARY to the path of libgfmd.so")
+
+
+c_double_p = ctypes.POINTER(ctypes.c_double)
+c_int64_p = ctypes.POINTER(ctypes.c_int64)
+c_int32_p = ctypes.POINTER(ctypes.c_int32)
+_sim = ctypes.c_void_p
+_sim_p = ctypes.POINTER(ctypes.c_void_p)
+_i32, _i64, _u64, _dbl, _str = ctypes.c_int32, ctypes.c_int64, ctypes.c_uint64, ctypes.c_double, ctypes.c_char_p
+
+# name: (argument types); every function returns an int32_t status unless listed in _RESTYPE
+_PROTOTYPES = {
+    "gfmd_last_error": (_sim, ctypes.c_char_p, _i64),
+    "gfmd_last_error_length": (_sim, c_int64_p),
+    "gfmd_sim_create_ex": (_i64, _i64, _dbl, _dbl, _i32, _i32, _sim_p),
+    "gfmd_sim_clone": (_sim, _sim_p),
+    "gfmd_sim_destroy": (_sim_p,),
+    "gfmd_sim_save": (_sim, _str),
+    "gfmd_sim_load": (_str, _sim_p, ctypes.c_char_p, _i64),
+    "gfmd_get_grid": (_sim, c_int64_p, c_int64_p, c_double_p, c_double_p),
+    "gfmd_set_modulus": (_sim, _dbl),
+    "gfmd_set_green": (_sim, _i32, _dbl),
+    "gfmd_set_poisson": (_sim, _dbl),
+    "gfmd_green_factor": (_i32, _dbl, _dbl, c_double_p),
+    "gfmd_set_heights": (_sim, c_double_p),
+    "gfmd_get_heights": (_sim, c_double_p),
+    "gfmd_generate_selfaffine": (_sim, _dbl, _dbl, _dbl, _dbl, _u64, _i32),
+    "gfmd_set_pressure": (_sim, _dbl),
+    "gfmd_set_adhesion": (_sim, _dbl, _dbl),
+    "gfmd_set_timestep": (_sim, _dbl),
+    "gfmd_set_damping": (_sim, _dbl),
+    "gfmd_set_solver": (_sim, _i32),
+    "gfmd_set_threads": (_sim, _i32),
+    "gfmd_get_threads": (_sim, c_int32_p),
+    "gfmd_set_fft_planner": (_sim, _i32),
+    "gfmd_import_wisdom": (_str,),
+    "gfmd_export_wisdom": (_str,),
+    "gfmd_get_dynamics": (_sim, c_double_p, c_double_p),
+    "gfmd_step": (_sim, _i64),
+    "gfmd_restart_solver": (_sim,),
+    "gfmd_relax": (_sim, _dbl, _i64, c_int64_p),
+    "gfmd_get_residual": (_sim, c_double_p),
+    "gfmd_reset": (_sim,),
+    "gfmd_get_contact_area": (_sim, c_double_p),
+    "gfmd_get_mean_gap": (_sim, c_double_p),
+    "gfmd_get_energies": (_sim, c_double_p, c_double_p),
+    "gfmd_get_gap": (_sim, c_double_p),
+    "gfmd_get_surface": (_sim, c_double_p),
+    "gfmd_get_pressure": (_sim, c_double_p),
+    "gfmd_persson_variance": (_sim, c_double_p),
+    "gfmd_persson_contact_area": (_sim, _dbl, c_double_p),
+    "gfmd_least_squares": (_i64, _i64, c_double_p, c_double_p, c_double_p, c_double_p),
+    "gfmd_version": (),
+    "gfmd_status_string": (_i32,),
+}
+_RESTYPE = {"gfmd_sim_destroy": None, "gfmd_version": ctypes.c_char_p, "gfmd_status_string": ctypes.c_char_p}
+
+
+def _declare(lib):
+    for name, args in _PROTOTYPES.items():
+        fn = getattr(lib, name)
+        fn.argtypes = list(args)
+        fn.restype = _RESTYPE.get(name, _i32)

@@ -1,0 +1,213 @@
+"""The Python package against independent answers: the C library's own recorded trajectories
+(tests/trajectory/reference.txt, same bits), the analytic sinusoid, numpy's least squares, and
+every way a call can fail.  Run: PYTHONPATH=python python3 -m pytest python/tests (GFMD_LIBRARY
+selects the library; ctest passes the one it built)."""
+import math
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import gfmd
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def fnv1a(z):
+    h = 0xCBF29CE484222325
+    for byte in np.ascontiguousarray(z, dtype=np.float64).tobytes():
+        h = ((h ^ byte) * 0x100000001B3) & 0xFFFFFFFFFFFFFFFF
+    return h
+
+
+def test_trajectories_are_those_of_c():
+    """The setup of tests/trajectory/record_trajectories.c, driven from Python: every number and the
+    hash of z equal the C program's recorded ones, bit for bit."""
+    expected = {}
+    for line in (ROOT / "tests" / "trajectory" / "reference.txt").read_text().splitlines():
+        solver, body, stage, *fields = line.split()
+        expected[(solver, body, stage)] = dict(f.split("=") for f in fields)
+    solvers = {"verlet": gfmd.VERLET, "fire": gfmd.FIRE, "fire_mass": gfmd.FIRE_MASS}
+    for sname, solver in solvers.items():
+        for body in ("halfspace", "fluid_w4", "bonded_w8_adhesive"):
+            with gfmd.Simulation(64, 48, 64.0, 48.0, threads=1, planner=gfmd.ESTIMATE) as s:
+                s.generate_selfaffine(0.8, 16.0, 4.0, 0.5, 7)
+                if body == "fluid_w4":
+                    s.set_green(gfmd.LAYER_FLUID, 4.0)
+                if body == "bonded_w8_adhesive":
+                    s.set_poisson(0.3)
+                    s.set_green(gfmd.LAYER_BONDED, 8.0)
+                    s.set_adhesion(2e-3, 0.5)
+                s.set_pressure(0.03)
+                s.set_solver(solver)
+                for stage in ("relax", "step50"):
+                    steps = s.relax(max_steps=20000) if stage == "relax" else (s.step(50) or 50)
+                    ref = expected[(sname, body, stage)]
+                    assert steps == int(ref["steps"])
+                    assert s.contact_area == float.fromhex(ref["area"])
+                    assert s.mean_gap == float.fromhex(ref["gap"])
+                    assert s.elastic_energy == float.fromhex(ref["uel"])
+                    assert s.adhesive_energy == float.fromhex(ref["uad"])
+                    assert f"{fnv1a(s.surface()):016x}" == ref["z"]
+
+
+def test_sinusoid_full_contact_threshold():
+    """h = h0 cos(q x) on a half-space: full contact exactly from p* = h0 q E*/2 on (the elastic
+    stress of the mode that the surface must follow); 2 % either side decides."""
+    nx, ny, lam, h0 = 64, 8, 64.0, 0.5
+    x = np.arange(nx) * lam / nx
+    h = np.ascontiguousarray(np.tile(h0 * np.cos(2 * np.pi * x / lam), (ny, 1)))
+    p_star = h0 * (2 * np.pi / lam) / 2
+    with gfmd.Simulation(nx, ny, lam, float(ny)) as s:
+        s.set_heights(h)
+        assert np.array_equal(s.heights(), h)  # the layout round trip, (ny, nx)
+        s.set_pressure(1.02 * p_star)
+        s.relax(tol=1e-10)
+        assert s.contact_area == 1.0
+        s.set_pressure(0.98 * p_star)
+        s.relax(tol=1e-10)
+        assert 0.0 < s.contact_area < 1.0
+        gap = s.gap()
+        assert np.all(gap >= 0.0)
+        assert np.ptp(gap, axis=0).max() < 1e-12  # constant along y: the substrate varies along x only
+
+
+def test_relax_in_chunks_and_not_converged():
+    def fresh():
+        s = gfmd.Simulation(48, 32, 48.0, 32.0, threads=1, planner=gfmd.ESTIMATE)
+        s.generate_selfaffine(0.8, 16.0, 4.0, 0.5, 3)
+        s.set_green(gfmd.LAYER_FLUID, 2.0)
+        s.set_pressure(0.01)
+        return s
+
+    with fresh() as one, fresh() as chunked, fresh() as limited:
+        steps = one.relax()
+        assert chunked.relax(progress=7) == steps  # printed progress costs no step
+        assert np.array_equal(one.surface(), chunked.surface())
+        with pytest.raises(gfmd.NotConverged) as info:
+            limited.relax(max_steps=5)
+        assert info.value.steps == 5 and limited.residual > gfmd.DEFAULT_TOL
+        assert limited.relax() + 5 == steps  # continues the same trajectory
+        assert np.array_equal(one.surface(), limited.surface())
+
+
+def test_checkpoint_clone_and_lifetime(tmp_path):
+    with gfmd.Simulation(32, 24, 32.0, 24.0, threads=1, planner=gfmd.ESTIMATE) as a:
+        a.generate_selfaffine(0.8, 8.0, 4.0, 1.0, 5)
+        a.set_pressure(0.05)
+        a.step(20)
+        a.save(tmp_path / "run.gfmd")
+        b = gfmd.load(tmp_path / "run.gfmd")
+        c = a.clone()
+        for s in (a, b, c):
+            s.step(30)
+        assert np.array_equal(a.surface(), b.surface())
+        assert np.array_equal(a.surface(), c.surface())
+        assert b.grid == (32, 24, 32.0, 24.0) and b.shape == (24, 32)
+        b.close()
+        b.close()  # idempotent
+        with pytest.raises(gfmd.StateError):
+            b.step(1)
+        c.set_pressure(0.0)  # c is independent of a
+        assert a.residual != c.residual
+    with pytest.raises(gfmd.StateError):
+        a.contact_area  # closed by the with-block
+
+
+def test_every_error_is_an_exception_with_the_library_message(tmp_path):
+    with gfmd.Simulation(16, 12, 16.0, 12.0) as s:
+        before = (s.contact_area, s.mean_gap, s.surface(), s.pressure())
+        good = np.zeros((12, 16))
+        for bad in (np.zeros((16, 12)), np.zeros((12, 16), dtype=np.float32), np.zeros((12, 32))[:, ::2],
+                    good.tolist()):
+            with pytest.raises(gfmd.InvalidArgument):
+                s.set_heights(bad)
+        nan = good.copy()
+        nan[3, 4] = np.nan
+        with pytest.raises(gfmd.InvalidArgument, match="height 52"):
+            s.set_heights(nan)  # refused by the library, which names the point
+        with pytest.raises(gfmd.BadEnum):
+            s.set_green(7, 1.0)
+        with pytest.raises(gfmd.StateError):
+            s.set_green(gfmd.LAYER_BONDED, 1.0)  # Poisson's ratio not set
+        with pytest.raises(ValueError):  # InvalidArgument is a ValueError too
+            s.set_pressure(float("nan"))
+        with pytest.raises(gfmd.InvalidArgument):
+            s.generate_selfaffine(0.8, 1e300, 4.0, 1.0, 3)
+        with pytest.raises(gfmd.FileError):
+            s.save(tmp_path / "no" / "such" / "dir.gfmd")
+        after = (s.contact_area, s.mean_gap, s.surface(), s.pressure())
+        assert all(np.array_equal(x, y) for x, y in zip(before, after))  # no failure changed the state
+    with pytest.raises(gfmd.InvalidArgument):
+        gfmd.Simulation(0, 4, 1.0, 1.0)
+    with pytest.raises(gfmd.FileError):
+        gfmd.load(tmp_path / "missing.gfmd")
+    (tmp_path / "junk.gfmd").write_bytes(b"not a checkpoint at all")
+    with pytest.raises(gfmd.FormatError):
+        gfmd.load(tmp_path / "junk.gfmd")
+    with pytest.raises(gfmd.InvalidArgument):
+        gfmd.green_factor(gfmd.LAYER_FLUID, -1.0)
+
+
+def test_theory_and_fits():
+    assert gfmd.green_factor(gfmd.HALFSPACE, 2.0) == 1.0
+    t = 1e-3  # thin-plate limit f -> 6/t^3
+    assert gfmd.green_factor(gfmd.LAYER_FLUID, t) * t**3 / 6 == pytest.approx(1.0, rel=1e-5)
+    rng = np.random.default_rng(1)
+    a = rng.normal(size=(20, 3))
+    b = rng.normal(size=20)
+    x, rss = gfmd.least_squares(a, b)
+    x_np, rss_np, *_ = np.linalg.lstsq(a, b, rcond=None)
+    assert np.allclose(x, x_np, rtol=1e-12, atol=1e-12) and rss == pytest.approx(rss_np[0], rel=1e-10)
+    with gfmd.Simulation(64, 64, 64.0, 64.0) as s:
+        s.generate_selfaffine(0.8, 32.0, 4.0, 1.0, 2)
+        v = s.persson_variance()
+        assert s.persson_contact_area(0.05) == pytest.approx(math.erf(0.05 / math.sqrt(2 * v)), rel=1e-14)
+
+
+def test_constants_are_the_tables():
+    values = {}
+    for line in (ROOT / "include" / "gfmd" / "constants.tbl").read_text().splitlines():
+        parts = [p.strip() for p in line.split("|")]
+        if parts[0] == "value":
+            values[parts[1]] = int(parts[2])
+    assert values and all(getattr(gfmd, k) == v for k, v in values.items())
+    assert (gfmd.HALFSPACE, gfmd.LAYER_FLUID, gfmd.LAYER_BONDED) == (0, 1, 2)
+
+
+def test_missing_library_names_every_place_tried(tmp_path):
+    """An installed-like copy of the package (constants table beside it, no build tree) with
+    GFMD_LIBRARY pointing nowhere: the error names the paths it tried."""
+    pkg = tmp_path / "site" / "gfmd"
+    shutil.copytree(ROOT / "python" / "gfmd", pkg)
+    shutil.copy(ROOT / "include" / "gfmd" / "constants.tbl", pkg / "constants.tbl")
+    env = dict(os.environ, GFMD_LIBRARY="/no/such/libgfmd.so", PYTHONPATH=str(tmp_path / "site"),
+               LD_LIBRARY_PATH="")
+    code = "import gfmd\ntry:\n    gfmd.version()\nexcept OSError as e:\n    print(e)\n"
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, cwd=tmp_path)
+    assert "/no/such/libgfmd.so" in out.stdout and "GFMD_LIBRARY" in out.stdout, out.stdout + out.stderr
+
+
+def test_example_script_runs(tmp_path):
+    """examples/python/load_sweep.py in its small mode: a load sweep, Persson's curve, the plots."""
+    env = dict(os.environ, MPLBACKEND="Agg")
+    out = subprocess.run([sys.executable, str(ROOT / "examples" / "python" / "load_sweep.py"), "--n", "64",
+                          "--out", str(tmp_path)], env=env, capture_output=True, text=True)
+    assert out.returncode == 0, out.stdout + out.stderr
+    assert (tmp_path / "load_sweep.png").stat().st_size > 1000
+    assert (tmp_path / "contact_map.png").stat().st_size > 1000
+    rows = [l for l in out.stdout.splitlines() if l.startswith("sigma0")]
+    assert len(rows) >= 5
+
+
+def test_docs_example(tmp_path, monkeypatch):
+    """The complete example of docs/python.md, run as written (in a scratch folder)."""
+    text = (ROOT / "docs" / "python.md").read_text()
+    code = text.split("```python\n", 1)[1].split("```", 1)[0]
+    monkeypatch.chdir(tmp_path)
+    exec(compile(code, "docs/python.md", "exec"), {})
+    assert (tmp_path / "sweep.gfmd").exists()
