@@ -211,3 +211,12 @@ def test_docs_example(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     exec(compile(code, "docs/python.md", "exec"), {})
     assert (tmp_path / "sweep.gfmd").exists()
+
+
+def test_readme_example():
+    """README.md's Python block, run as written."""
+    text = (ROOT / "README.md").read_text()
+    code = text.split("```python\n", 1)[1].split("```", 1)[0]
+    scope = {}
+    exec(compile(code, "README.md", "exec"), scope)
+    assert 0.0 < scope["sim"].mean_gap and scope["gap"].shape == (256, 256)
