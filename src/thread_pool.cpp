@@ -20,7 +20,7 @@ namespace {
 constexpr int kSpins = 5000;
 
 thread_local ThreadPool *current_pool = nullptr;  // the pool of the transform being executed
-thread_local bool in_worker = false;              // this thread is one of a pool's workers
+thread_local bool in_job = false;                 // this thread is running a job of a pool
 
 }  // namespace
 
@@ -48,12 +48,16 @@ ThreadPool::~ThreadPool() {
     for (auto &w : workers_) w.join();
 }
 
+bool ThreadPool::inside_job() { return in_job; }
+
 void ThreadPool::take_jobs(JobFn fn, void *ctx, int64_t njobs) {
+    in_job = true;
     for (int64_t i = next_.fetch_add(1, std::memory_order_relaxed); i < njobs;
          i = next_.fetch_add(1, std::memory_order_relaxed)) {
         fn(ctx, i);
         finished_.fetch_add(1, std::memory_order_release);
     }
+    in_job = false;
 }
 
 void ThreadPool::dispatch(int64_t njobs, JobFn fn, void *ctx) {
@@ -84,7 +88,6 @@ void ThreadPool::dispatch(int64_t njobs, JobFn fn, void *ctx) {
 }
 
 void ThreadPool::worker() {
-    in_worker = true;
     uint64_t seen = 0;
     for (;;) {
         for (int s = 0; s < kSpins && published_.load(std::memory_order_acquire) == seen; ++s)
@@ -155,10 +158,13 @@ PoolScope::~PoolScope() { current_pool = previous_; }
 namespace {
 void spawn_loop(void *(*work)(char *), char *jobdata, size_t elsize, int njobs, void *) {
     ThreadPool *pool = current_pool;
-    if (pool != nullptr && !in_worker) {
-        pool->run(njobs, [&](int64_t i) { work(jobdata + elsize * static_cast<std::size_t>(i)); });
-    } else if (in_worker) {  // nested inside one of our jobs: this thread alone
-        for (int i = 0; i < njobs; ++i) work(jobdata + elsize * static_cast<std::size_t>(i));
+    if (pool != nullptr || in_job) {  // ours (nested in a job, run() keeps it on this thread)
+        auto job = [&](int64_t i) { work(jobdata + elsize * static_cast<std::size_t>(i)); };
+        if (pool != nullptr) {
+            pool->run(njobs, job);
+        } else {
+            for (int i = 0; i < njobs; ++i) job(i);
+        }
     } else {  // a plan that is not ours: what FFTW's OpenMP backend does
 #pragma omp parallel for num_threads(njobs) schedule(static)
         for (int i = 0; i < njobs; ++i) work(jobdata + elsize * static_cast<std::size_t>(i));

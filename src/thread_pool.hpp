@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <mutex>
 #include <thread>
+#include <type_traits>
 #include <vector>
 
 namespace gfmd {
@@ -29,12 +30,18 @@ public:
     // are done.  Which thread runs which job varies; what a job computes must not depend on it.
     template <class Job>
     void run(int64_t njobs, Job &&job) {
-        if (workers_.empty() || njobs <= 1) {
+        if (workers_.empty() || njobs <= 1 || inside_job()) {  // nested in a job: this thread alone
             for (int64_t i = 0; i < njobs; ++i) job(i);
             return;
         }
-        dispatch(njobs, [](void *ctx, int64_t i) { (*static_cast<Job *>(ctx))(i); }, &job);
+        using Callable = std::remove_reference_t<Job>;
+        dispatch(njobs, [](void *ctx, int64_t i) { (*static_cast<Callable *>(ctx))(i); },
+                 const_cast<void *>(static_cast<const void *>(&job)));
     }
+
+    // True while this thread runs a job of some pool (nested parallel loops run serially: a
+    // nested dispatch would wait for the very task it is part of).
+    static bool inside_job();
 
 private:
     using JobFn = void (*)(void *, int64_t);
