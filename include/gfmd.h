@@ -173,8 +173,34 @@ GFMD_API int32_t gfmd_generate_selfaffine(gfmd_sim *s, double hurst, double lamb
 
 /* ---------------------------------------------------------------- loads */
 
-/** External pressure sigma0 >= 0 pushing the body onto the substrate.  Keeps the configuration. */
+/** Pressure control (the default): an external pressure sigma0 >= 0 pushes the body onto the
+ *  substrate, and its mean position follows.  Keeps the configuration. */
 GFMD_API int32_t gfmd_set_pressure(gfmd_sim *s, double sigma0);
+
+/**
+ * Displacement control: prescribe the mean position of the body's surface, mean(z) = @p d (in the
+ * substrate's height units; z = h + gap), so that the mean pressure the body carries follows —
+ * also when it is tensile, as on the unstable branch of an adhesive contact and at pull-off.  The
+ * configuration is moved to the nearest one with that mean (every free point shifted alike, points
+ * reaching the substrate stopped) and every step keeps it.  A smaller d presses harder.
+ * GFMD_ERR_INVALID_ARG if d is not finite or below the substrate's mean height (a body with z >= h
+ * cannot have a smaller mean).  gfmd_set_pressure() returns to pressure control.  Works with
+ * GFMD_SOLVER_FIRE and GFMD_SOLVER_VERLET; GFMD_ERR_STATE with GFMD_SOLVER_FIRE_MASS (which stalls
+ * with the mean held; gfmd_set_solver() refuses it under displacement control likewise).
+ * Checkpoints keep the mode.
+ */
+GFMD_API int32_t gfmd_set_mean_displacement(gfmd_sim *s, double d);
+
+/** The mean position of the body's surface, mean(z), under either control. */
+GFMD_API int32_t gfmd_get_mean_displacement(const gfmd_sim *s, double *d);
+
+/**
+ * The mean pressure the body carries (compressive > 0): sigma0 under pressure control; under
+ * displacement control the pressure that balances the body at its prescribed position (the mean
+ * elastic and adhesive stress of the points out of contact: at equilibrium, the mean contact
+ * pressure minus the mean adhesive pull).
+ */
+GFMD_API int32_t gfmd_get_mean_pressure(const gfmd_sim *s, double *p);
 
 /**
  * Adhesion: stress (gamma0/rho) exp(-gap/rho) pulling the body down; gamma0 >= 0 is the surface

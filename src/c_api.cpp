@@ -226,6 +226,24 @@ int32_t gfmd_set_pressure(gfmd_sim *s, double sigma0) {
     return guarded(s, [&](gfmd::Simulation &m) { m.set_pressure(sigma0); });
 }
 
+int32_t gfmd_set_mean_displacement(gfmd_sim *s, double d) {
+    return guarded(s, [&](gfmd::Simulation &m) { m.set_mean_displacement(d); });
+}
+
+int32_t gfmd_get_mean_displacement(const gfmd_sim *s, double *d) {
+    return guarded(s, [&](const gfmd::Simulation &m) {
+        need(d, "d");
+        *d = m.mean_displacement();
+    });
+}
+
+int32_t gfmd_get_mean_pressure(const gfmd_sim *s, double *p) {
+    return guarded(s, [&](const gfmd::Simulation &m) {
+        need(p, "p");
+        *p = m.mean_pressure();
+    });
+}
+
 int32_t gfmd_set_adhesion(gfmd_sim *s, double gamma0, double rho) {
     return guarded(s, [&](gfmd::Simulation &m) { m.set_adhesion(gamma0, rho); });
 }

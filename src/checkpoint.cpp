@@ -1,17 +1,17 @@
 // Checkpoint and restart: a simulation's complete state in a portable, versioned binary file.
 //
-// Format version 2, every number little-endian whatever the machine:
+// Format version 3, every number little-endian whatever the machine:
 //   "GFMDCKPT"                      8 bytes, magic
-//   u32 version = 2, u32 flags = 0 (no flags are defined: others are refused)
+//   u32 version = 3, u32 flags = 0 (no flags are defined: others are refused)
 //   i64 nx, ny; f64 lx, ly
 //   the parameters in the order of GFMD_PARAMS_LIST (params.hpp): f64 e_star; i32 kind;
-//     f64 width, nu, sigma0, gamma0, rho, dt_user, eta_user; i32 solver
+//     f64 width, nu, sigma0, gamma0, rho, dt_user, eta_user; i32 solver; i32 control; f64 mean_z
 //   i32 threads (informative; not restored), planner
 //   u32 count, f64 solver_state[count]  (the solver's adaptive state: FIRE's dt, alpha, count)
 //   f64 h[nx*ny], z[nx*ny], v[nx*ny]    (x fastest)
 //   u64 FNV-1a hash of every byte before it
-// Version 1 (read, not written) had f64 fire_dt, fire_alpha; i64 fire_positive in place of the
-// solver state.  Readers refuse other magics, versions they do not know, unknown flags, a length
+// Version 2 (read, not written) had no control and mean_z (pressure control).  Version 1 (read)
+// also had f64 fire_dt, fire_alpha; i64 fire_positive in place of the solver state.  Readers refuse other magics, versions they do not know, unknown flags, a length
 // other than the header implies (before allocating anything), and hash mismatches.
 #include <cmath>
 #include <cstdio>
@@ -30,7 +30,7 @@ namespace gfmd {
 namespace {
 
 constexpr char kMagic[8] = {'G', 'F', 'M', 'D', 'C', 'K', 'P', 'T'};
-constexpr uint32_t kVersion = 2;
+constexpr uint32_t kVersion = 3;
 constexpr uint32_t kMaxSolverState = 64;  // numbers of a solver's state; more is a corrupted file
 
 struct File {
@@ -160,7 +160,7 @@ void Simulation::save(const char *path) const {
         w.i64(grid_.ny());
         w.f64(grid_.lx());
         w.f64(grid_.ly());
-#define GFMD_PARAM_WRITE(type, name, value) w.put(params_.name);
+#define GFMD_PARAM_WRITE(type, name, value, since) w.put(params_.name);
         GFMD_PARAMS_LIST(GFMD_PARAM_WRITE)
 #undef GFMD_PARAM_WRITE
         w.i32(grid_.threads());
@@ -196,9 +196,9 @@ std::unique_ptr<Simulation> Simulation::load(const char *path) {
     r.bytes(magic, 8);
     if (std::memcmp(magic, kMagic, 8) != 0) fail(GFMD_ERR_FORMAT, "'" + p + "' is not a gfmd checkpoint");
     const uint32_t version = r.u32();
-    if (version != 1 && version != kVersion)
+    if (version < 1 || version > kVersion)
         fail(GFMD_ERR_VERSION, "'" + p + "' is a checkpoint of format version " + std::to_string(version) +
-                                   "; this library reads versions 1 and " + std::to_string(kVersion));
+                                   "; this library reads versions 1 to " + std::to_string(kVersion));
     const uint32_t flags = r.u32();
     if (flags != 0) fail(GFMD_ERR_FORMAT, "'" + p + "' has unknown flags " + std::to_string(flags) + ": corrupted");
     const int64_t nx = r.i64(), ny = r.i64();
@@ -209,7 +209,8 @@ std::unique_ptr<Simulation> Simulation::load(const char *path) {
         fail(GFMD_ERR_FORMAT, "'" + p + "' has an impossible grid: " + e.what());
     }
     Params params;
-#define GFMD_PARAM_READ(type, name, value) r.get(params.name);
+#define GFMD_PARAM_READ(type, name, value, since) \
+    if (version >= (since)) r.get(params.name);
     GFMD_PARAMS_LIST(GFMD_PARAM_READ)
 #undef GFMD_PARAM_READ
     r.i32();  // threads: recorded for information; the loading process keeps its own default
@@ -260,6 +261,15 @@ std::unique_ptr<Simulation> Simulation::load(const char *path) {
         s->set_green(params.kind, params.width);
         s->set_adhesion(params.gamma0, params.rho);
         s->set_pressure(params.sigma0);
+        if (params.control == kDisplacementControl) {
+            // The saved z already holds its mean: adopted as it is (a new projection could move it
+            // by a rounding and the resumed run would differ in the last bits).
+            s->check_mean_displacement(params.mean_z);
+            s->params_.control = kDisplacementControl;
+            s->params_.mean_z = params.mean_z;
+        } else if (params.control != kPressureControl) {
+            fail(GFMD_ERR_FORMAT, "unknown load control " + std::to_string(params.control));
+        }
         s->set_timestep(params.dt_user);
         s->set_damping(params.eta_user);
         s->set_solver(params.solver);

@@ -37,12 +37,37 @@ ForceState evaluate_forces(const FftGrid &grid, const Params &p, const Body &bod
     // Real space: external pressure, adhesion, the residual of the constrained problem, and the
     // sums FIRE needs (power F.v, |F|^2, |v|^2 of the projected force F).
     const bool adhesive = p.gamma0 > 0.0;
-    const double adh_coef = adhesive ? p.gamma0 / p.rho : 0.0, inv_rho = 1.0 / p.rho, sigma0 = p.sigma0;
-    double ref = p.sigma0 + adh_coef;
-    if (ref <= 0.0) ref = p.e_star;
-    const double inv_ref = 1.0 / ref;
+    const double adh_coef = adhesive ? p.gamma0 / p.rho : 0.0, inv_rho = 1.0 / p.rho;
     double *f = fields.f.data();
     const double *z = fields.z.data(), *h = fields.h.data(), *v = fields.v.data();
+    double sigma0 = p.sigma0;
+    if (p.control == kDisplacementControl) {
+        const auto free_sums = grid.sum_points<4>([&](int64_t i0, int64_t i1, double *acc) {
+            double s_free = 0.0, n_free = 0.0, s_all = 0.0;
+#pragma omp simd reduction(+ : s_free, n_free, s_all)
+            for (int64_t i = i0; i < i1; ++i) {
+                const double g = z[i] - h[i];
+                const double fi = f[i] - (adhesive ? adh_coef * std::exp(-g * inv_rho) : 0.0);
+                const bool free_point = g > 0.0;
+                s_free += free_point ? fi : 0.0;
+                n_free += free_point ? 1.0 : 0.0;
+                s_all += fi;
+            }
+            acc[0] += s_free;
+            acc[1] += n_free;
+            acc[2] += s_all;
+        });
+        // no point free (full contact): the walls hold everything; the mean stress is the pressure
+        sigma0 = (free_sums[1] > 0.0) ? free_sums[0] / free_sums[1] : free_sums[2] * inv_n;
+    }
+    out.mean_pressure = sigma0;
+    double ref = std::fabs(sigma0) + adh_coef;
+    // Under displacement control the pressure is an outcome and may pass through zero (a body that
+    // barely touches, or has come off): a floor of 1e-8 E* keeps the relative residual meaningful
+    // where the forces are at the level of the transforms' rounding (about 1e-16 E* per unit slope).
+    if (p.control == kDisplacementControl) ref += kDisplacementStressFloor * p.e_star;
+    if (ref <= 0.0) ref = p.e_star;
+    const double inv_ref = 1.0 / ref;
     const auto sums = grid.sum_points<6>([&](int64_t i0, int64_t i1, double *acc) {
         double adh_sum = 0.0, res2 = 0.0, power = 0.0, v2 = 0.0, rel2 = 0.0;
         int64_t touching = 0;

@@ -19,10 +19,16 @@ struct ForceState {
     double u_el = 0.0, u_ad = 0.0, residual = 0.0;
     double power = 0.0, f_norm2 = 0.0, v_norm2 = 0.0;
     int64_t contacts = 0;  // points with zero gap
+    double mean_pressure = 0.0;  // sigma0, or under displacement control the pressure that balances
     bool finite() const { return std::isfinite(u_el) && std::isfinite(u_ad) && std::isfinite(residual); }
 };
 
+constexpr double kDisplacementStressFloor = 1e-8;  // see evaluate_forces()
+
 // Writes the force per area on z into fields.f (fields.work is scratch) and returns the sums.
+// Under displacement control the uniform pressure is not given but the Lagrange multiplier of
+// mean(z) = mean_z: the mean over the points out of contact of the elastic and adhesive stress
+// (then the net force on them has zero mean, and vanishes at equilibrium).
 ForceState evaluate_forces(const FftGrid &grid, const Params &p, const Body &body, Fields &fields);
 
 }  // namespace gfmd

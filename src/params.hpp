@@ -11,21 +11,28 @@
 
 namespace gfmd {
 
-// X(type, name, default): the one list of parameters, in checkpoint order.
-#define GFMD_PARAMS_LIST(X)                                                                    \
-    X(double, e_star, 1.0)                    /* contact modulus E* */                         \
-    X(int32_t, kind, GFMD_GREEN_HALFSPACE)    /* body: GFMD_GREEN_* */                         \
-    X(double, width, 0.0)                     /* layer width w (0 for the half-space) */       \
-    X(double, nu, std::numeric_limits<double>::quiet_NaN()) /* Poisson's ratio, NaN = unset */ \
-    X(double, sigma0, 0.0)                    /* external pressure */                          \
-    X(double, gamma0, 0.0)                    /* adhesion: surface energy, 0 = none */         \
-    X(double, rho, 1.0)                       /* adhesion: range */                            \
-    X(double, dt_user, 0.0)                   /* time step, 0 = automatic */                   \
-    X(double, eta_user, 0.0)                  /* damping, 0 = automatic */                     \
-    X(int32_t, solver, GFMD_SOLVER_FIRE)      /* GFMD_SOLVER_* */
+// The load: a pressure sigma0 (the body's mean position follows), or the mean position of the
+// body's surface, mean(z) = mean_z (the mean pressure follows: displacement control).
+constexpr int32_t kPressureControl = 0, kDisplacementControl = 1;
+
+// X(type, name, default, since): the one list of parameters, in checkpoint order; `since` is the
+// checkpoint format version that first holds the parameter (older files leave the default).
+#define GFMD_PARAMS_LIST(X)                                                                       \
+    X(double, e_star, 1.0, 1)                    /* contact modulus E* */                         \
+    X(int32_t, kind, GFMD_GREEN_HALFSPACE, 1)    /* body: GFMD_GREEN_* */                         \
+    X(double, width, 0.0, 1)                     /* layer width w (0 for the half-space) */       \
+    X(double, nu, std::numeric_limits<double>::quiet_NaN(), 1) /* Poisson's ratio, NaN = unset */ \
+    X(double, sigma0, 0.0, 1)                    /* external pressure (pressure control) */       \
+    X(double, gamma0, 0.0, 1)                    /* adhesion: surface energy, 0 = none */         \
+    X(double, rho, 1.0, 1)                       /* adhesion: range */                            \
+    X(double, dt_user, 0.0, 1)                   /* time step, 0 = automatic */                   \
+    X(double, eta_user, 0.0, 1)                  /* damping, 0 = automatic */                     \
+    X(int32_t, solver, GFMD_SOLVER_FIRE, 1)      /* GFMD_SOLVER_* */                              \
+    X(int32_t, control, kPressureControl, 3)     /* what the load prescribes */                   \
+    X(double, mean_z, 0.0, 3)                    /* displacement control: the mean of z */
 
 struct Params {
-#define GFMD_PARAM_MEMBER(type, name, value) type name = value;
+#define GFMD_PARAM_MEMBER(type, name, value, since) type name = value;
     GFMD_PARAMS_LIST(GFMD_PARAM_MEMBER)
 #undef GFMD_PARAM_MEMBER
 
@@ -36,7 +43,7 @@ struct Params {
 // Bitwise equality of every parameter (an unset nu equals an unset nu).
 inline bool same(const Params &a, const Params &b) {
     bool eq = true;
-#define GFMD_PARAM_SAME(type, name, value) eq = eq && std::memcmp(&a.name, &b.name, sizeof(type)) == 0;
+#define GFMD_PARAM_SAME(type, name, value, since) eq = eq && std::memcmp(&a.name, &b.name, sizeof(type)) == 0;
     GFMD_PARAMS_LIST(GFMD_PARAM_SAME)
 #undef GFMD_PARAM_SAME
     return eq;

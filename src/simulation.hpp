@@ -42,7 +42,10 @@ public:
     void set_poisson(double nu);
     void set_heights(const double *h);
     void generate_selfaffine(const SelfAffineParams &p);
-    void set_pressure(double sigma0);
+    void set_pressure(double sigma0);  // pressure control
+    // Displacement control: mean(z) = d; throws GFMD_ERR_INVALID_ARG if d < mean(h) (or not finite).
+    void set_mean_displacement(double d);
+    void check_mean_displacement(double d) const;
     void set_adhesion(double gamma0, double rho);
     void set_timestep(double dt);
     void set_damping(double eta);
@@ -70,6 +73,8 @@ public:
     void pressure(double *out) const;
     double persson_variance() const;
     double persson_contact_area(double sigma0) const;
+    double mean_displacement() const;  // mean(z)
+    double mean_pressure() const { return forces_.mean_pressure; }
 
 private:
     void refresh_forces();  // forces_ of the current z
@@ -77,6 +82,7 @@ private:
     void change(const char *what, Apply &&apply, Undo &&undo);
     void change_body(const char *what, const Params &p);
     void change_substrate(RealBuffer &&h);
+    void apply_control();  // under displacement control: z projected onto mean(z) = mean_z
     [[noreturn]] void diverged(int64_t step, const std::vector<double> &solver_state);
 
     FftGrid grid_;

@@ -103,9 +103,9 @@ static void damaged_files_are_refused(void **state) {
     TS_OK(a, gfmd_sim_save(a, PATH));
     gfmd_sim_destroy(&a);
     const long n = file_size(PATH);
-    /* format 2: magic, version + flags, grid, 8 f64 + 2 i32 parameters, threads + planner, the
+    /* format 3: magic, version + flags, grid, 9 f64 + 3 i32 parameters, threads + planner, the
      * solver state (count + FIRE's 3 numbers), three fields, hash */
-    assert_int_equal(n, 8 + 8 + 32 + 8 * 8 + 2 * 4 + 8 + 4 + 3 * 8 + 3 * 8 * NX * NY + 8);
+    assert_int_equal(n, 8 + 8 + 32 + 9 * 8 + 3 * 4 + 8 + 4 + 3 * 8 + 3 * 8 * NX * NY + 8);
 
     const long cuts[] = {0, 5, 12, 100, n / 2, n - 1};
     for (int i = 0; i < 6; ++i) {
@@ -117,8 +117,8 @@ static void damaged_files_are_refused(void **state) {
         rewrite(PATH, -1, flips[i], NULL, 0, 0);
         expect_refused(GFMD_ERR_FORMAT, "corrupted");
     }
-    const unsigned char v3[4] = {3, 0, 0, 0};
-    rewrite(PATH, -1, -1, v3, 4, 8);
+    const unsigned char v4[4] = {4, 0, 0, 0};
+    rewrite(PATH, -1, -1, v4, 4, 8);
     expect_refused(GFMD_ERR_VERSION, "another version");
     const unsigned char junk[8] = {'P', 'K', 3, 4, 0, 0, 0, 0};
     rewrite(PATH, -1, -1, junk, 8, 0);
@@ -138,8 +138,10 @@ static void damaged_files_are_refused(void **state) {
     remove("damaged.gfmd");
 }
 
-/* Layout of a format-2 file (see src/checkpoint.cpp): offsets of the flags, grid, solver state. */
-enum { OFF_VERSION = 8, OFF_FLAGS = 12, OFF_NX = 16, OFF_COUNT = 128, OFF_STATE = 132, OFF_FIELDS = 156 };
+/* Layout of a format-3 file (see src/checkpoint.cpp): offsets of the flags, grid, the control
+ * parameters format 3 added, the solver state; format 2 lacks the 12 bytes of the control. */
+enum { OFF_VERSION = 8, OFF_FLAGS = 12, OFF_NX = 16, OFF_CONTROL = 120, CONTROL_BYTES = 12, OFF_COUNT = 140,
+       OFF_STATE = 144, OFF_FIELDS = 168 };
 
 static unsigned char *read_all(const char *path, long *n) {
     *n = file_size(path);
@@ -162,43 +164,57 @@ static void write_rehashed(const char *path, unsigned char *buf, long n) {
     fclose(f);
 }
 
-/* A format-1 file (FIRE's dt, alpha as f64 and its count as i64, no count of numbers) made from a
- * format-2 one loads and resumes the run bit for bit: files of the earlier library stay usable. */
-static void format1_files_resume(void **state) {
+/* Files of the earlier formats made from a format-3 one load and resume the run bit for bit:
+ * format 2 (no control parameters: pressure control) and format 1 (also FIRE's dt, alpha as f64
+ * and its count as i64 in place of the solver state). */
+static void older_formats_resume(void **state) {
     (void)state;
-    for (int32_t solver = GFMD_SOLVER_VERLET; solver <= GFMD_SOLVER_FIRE_MASS; ++solver) {
-        gfmd_sim *a = make(solver), *b = NULL;
-        TS_OK(a, gfmd_step(a, 37));
-        TS_OK(a, gfmd_sim_save(a, PATH));
-        long n = 0;
-        unsigned char *v2 = read_all(PATH, &n);
-        uint32_t count = v2[OFF_COUNT];
-        double st[3] = {0.0, 0.0, 0.0};
-        if (count == 3) memcpy(st, v2 + OFF_STATE, sizeof st); /* little-endian machine (x86_64) */
-        const long n1 = n - 4 - 8 * (long)count + 24;
-        unsigned char *v1 = malloc((size_t)n1);
-        memcpy(v1, v2, OFF_COUNT);
-        v1[OFF_VERSION] = 1;
-        const int64_t positive = (int64_t)st[2];
-        memcpy(v1 + OFF_COUNT, st, 16);
-        memcpy(v1 + OFF_COUNT + 16, &positive, 8);
-        memcpy(v1 + OFF_COUNT + 24, v2 + OFF_STATE + 8 * count, (size_t)(n - OFF_STATE - 8 * (long)count));
-        write_rehashed("format1.gfmd", v1, n1);
-        char msg[256] = "";
-        int32_t st_load = gfmd_sim_load("format1.gfmd", &b, msg, sizeof msg);
-        if (st_load != GFMD_OK) fail_msg("format 1: %s", msg);
-        TS_OK(a, gfmd_step(a, 50));
-        TS_OK(b, gfmd_step(b, 50));
-        double za[NX * NY], pa[NX * NY], zb[NX * NY], pb[NX * NY];
-        fields(a, za, pa);
-        fields(b, zb, pb);
-        assert_memory_equal(za, zb, sizeof za);
-        free(v1);
-        free(v2);
-        gfmd_sim_destroy(&a);
-        gfmd_sim_destroy(&b);
-    }
-    remove("format1.gfmd");
+    for (int version = 1; version <= 2; ++version)
+        for (int32_t solver = GFMD_SOLVER_VERLET; solver <= GFMD_SOLVER_FIRE_MASS; ++solver) {
+            gfmd_sim *a = make(solver), *b = NULL;
+            TS_OK(a, gfmd_step(a, 37));
+            TS_OK(a, gfmd_sim_save(a, PATH));
+            long n = 0;
+            unsigned char *v3 = read_all(PATH, &n);
+            /* format 2: without the control parameters */
+            const long n2 = n - CONTROL_BYTES;
+            unsigned char *old = malloc((size_t)n2);
+            memcpy(old, v3, OFF_CONTROL);
+            memcpy(old + OFF_CONTROL, v3 + OFF_CONTROL + CONTROL_BYTES, (size_t)(n - OFF_CONTROL - CONTROL_BYTES));
+            old[OFF_VERSION] = 2;
+            long n_old = n2;
+            if (version == 1) { /* the solver state as FIRE's fixed triple */
+                const long count_at = OFF_COUNT - CONTROL_BYTES, state_at = OFF_STATE - CONTROL_BYTES;
+                const uint32_t count = old[count_at];
+                double st[3] = {0.0, 0.0, 0.0};
+                if (count == 3) memcpy(st, old + state_at, sizeof st); /* little-endian machine (x86_64) */
+                n_old = n2 - 4 - 8 * (long)count + 24;
+                unsigned char *v1 = malloc((size_t)n_old);
+                memcpy(v1, old, (size_t)count_at);
+                v1[OFF_VERSION] = 1;
+                const int64_t positive = (int64_t)st[2];
+                memcpy(v1 + count_at, st, 16);
+                memcpy(v1 + count_at + 16, &positive, 8);
+                memcpy(v1 + count_at + 24, old + state_at + 8 * count, (size_t)(n2 - state_at - 8 * (long)count));
+                free(old);
+                old = v1;
+            }
+            write_rehashed("older.gfmd", old, n_old);
+            char msg[256] = "";
+            const int32_t st_load = gfmd_sim_load("older.gfmd", &b, msg, sizeof msg);
+            if (st_load != GFMD_OK) fail_msg("format %d: %s", version, msg);
+            TS_OK(a, gfmd_step(a, 50));
+            TS_OK(b, gfmd_step(b, 50));
+            double za[NX * NY], pa[NX * NY], zb[NX * NY], pb[NX * NY];
+            fields(a, za, pa);
+            fields(b, zb, pb);
+            assert_memory_equal(za, zb, sizeof za);
+            free(old);
+            free(v3);
+            gfmd_sim_destroy(&a);
+            gfmd_sim_destroy(&b);
+        }
+    remove("older.gfmd");
     remove(PATH);
 }
 
@@ -218,7 +234,7 @@ static void forged_headers_are_refused(void **state) {
     const int64_t big = 4096;
     memcpy(buf + OFF_NX, &big, 8);
     memcpy(buf + OFF_NX + 8, &big, 8);
-    memmove(buf + OFF_FIELDS, buf + n - 8, 8); /* a 164-byte file: header and hash only */
+    memmove(buf + OFF_FIELDS, buf + n - 8, 8); /* a 176-byte file: header and hash only */
     write_rehashed("damaged.gfmd", buf, OFF_FIELDS + 8);
     gfmd_sim *s = NULL;
     char msg[256] = "";
@@ -268,7 +284,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(restart_is_bit_exact),
         cmocka_unit_test(damaged_files_are_refused),
-        cmocka_unit_test(format1_files_resume),
+        cmocka_unit_test(older_formats_resume),
         cmocka_unit_test(forged_headers_are_refused),
         cmocka_unit_test(failed_save_leaves_nothing),
     };

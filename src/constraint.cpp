@@ -1,0 +1,52 @@
+#include "constraint.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace gfmd {
+
+double grid_mean(const FftGrid &grid, const double *x) {
+    const auto s = grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
+        double t = 0.0;
+        for (int64_t i = i0; i < i1; ++i) t += x[i];
+        acc[0] += t;
+    });
+    return s[0] / static_cast<double>(grid.real_size());
+}
+
+void project_mean(const FftGrid &grid, Fields &fields, double d) {
+    double *z = fields.z.data(), *v = fields.v.data();
+    const double *h = fields.h.data();
+    const double n = static_cast<double>(grid.real_size());
+    // mean(max(h, z + c)) >= mean(z) + c: from c = d - mean(z) the mean is at or above d, and
+    // Newton's steps on the convex mean(c) approach the root from above.
+    double c = d - grid_mean(grid, z);
+    const double tol = 4.0 * 2.220446049250313e-16 * (std::fabs(d) + std::fabs(c) + 1.0);
+    for (int it = 0; it < 100; ++it) {
+        const auto s = grid.sum_points<2>([&](int64_t i0, int64_t i1, double *acc) {
+            double sum = 0.0, nfree = 0.0;
+#pragma omp simd reduction(+ : sum, nfree)
+            for (int64_t i = i0; i < i1; ++i) {
+                const double y = z[i] + c;
+                sum += std::max(h[i], y);
+                nfree += (y > h[i]) ? 1.0 : 0.0;
+            }
+            acc[0] += sum;
+            acc[1] += nfree;
+        });
+        const double excess = s[0] / n - d;
+        if (excess <= tol || s[1] == 0.0) break;
+        c -= excess * n / s[1];
+    }
+    grid.for_points([&](int64_t i0, int64_t i1) {
+#pragma omp simd
+        for (int64_t i = i0; i < i1; ++i) {
+            const double y = z[i] + c;
+            const bool wall = y <= h[i];
+            z[i] = wall ? h[i] : y;
+            v[i] = wall ? 0.0 : v[i];
+        }
+    });
+}
+
+}  // namespace gfmd

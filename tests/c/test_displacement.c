@@ -1,0 +1,216 @@
+/* Displacement control (gfmd_set_mean_displacement) against pressure control and against energy
+ * conservation:
+ *  - where the pressure-controlled state is stable, prescribing its mean position gives back the
+ *    same state and mean pressure, and prescribing the pressure found under displacement control
+ *    gives back the position (half-space, fluid layer, bonded layer with adhesion; Verlet and FIRE,
+ *    mass-weighted FIRE refuses the mode);
+ *  - the work of the mean pressure along a quasi-static path equals the change of U_el - U_ad;
+ *  - without adhesion, loading then unloading retraces the same curve (the problem is convex:
+ *    one equilibrium per position);
+ *  - the constraint holds after every step, bad positions are refused and change nothing, and a
+ *    checkpoint keeps the mode. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "gfmd.h"
+#include "test_support.h"
+
+enum { NX = 48, NY = 40, N = NX * NY };
+/* Relaxed far below the default: the comparisons below are between two converged states (1e-9 of
+ * the pressure scale: about where the transforms' rounding stops the residual at these loads). */
+static const double TOL = 1e-9;
+
+static gfmd_sim *make(int body, int32_t solver) {
+    gfmd_sim *s = NULL;
+    assert_int_equal(gfmd_sim_create_ex(NX, NY, NX, NY, 1, GFMD_PLANNER_ESTIMATE, &s), GFMD_OK);
+    TS_OK(s, gfmd_generate_selfaffine(s, 0.8, 16.0, 4.0, 0.5, 11, GFMD_DIST_UNIFORM));
+    if (body == 1) TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 4.0));
+    if (body == 2) {
+        TS_OK(s, gfmd_set_poisson(s, 0.3));
+        TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_BONDED, 8.0));
+        TS_OK(s, gfmd_set_adhesion(s, 2e-3, 0.5));
+    }
+    TS_OK(s, gfmd_set_solver(s, solver));
+    return s;
+}
+
+static double mean_z(const gfmd_sim *s) {
+    double d = 0.0;
+    TS_OK(s, gfmd_get_mean_displacement(s, &d));
+    return d;
+}
+
+static double mean_p(const gfmd_sim *s) {
+    double p = 0.0;
+    TS_OK(s, gfmd_get_mean_pressure(s, &p));
+    return p;
+}
+
+static double max_abs_diff(const gfmd_sim *a, const gfmd_sim *b) {
+    static double za[N], zb[N];
+    TS_OK(a, gfmd_get_surface(a, za));
+    TS_OK(b, gfmd_get_surface(b, zb));
+    double m = 0.0;
+    for (int i = 0; i < N; ++i) m = fmax(m, fabs(za[i] - zb[i]));
+    return m;
+}
+
+static void pressure_and_displacement_control_agree(void **state) {
+    (void)state;
+    for (int body = 0; body < 3; ++body)
+        for (int32_t solver = GFMD_SOLVER_VERLET; solver <= GFMD_SOLVER_FIRE; ++solver) {
+            const double sigma0 = 0.03;
+            gfmd_sim *p = make(body, solver), *d = NULL, *back = NULL;
+            TS_OK(p, gfmd_set_pressure(p, sigma0));
+            TS_OK(p, gfmd_relax(p, TOL, 1000000, NULL));
+            const double z_mean = mean_z(p);
+            assert_true(mean_p(p) == sigma0);
+            /* the position of that state, prescribed from a flat start */
+            TS_OK(p, gfmd_sim_clone(p, &d));
+            TS_OK(d, gfmd_reset(d));
+            TS_OK(d, gfmd_set_mean_displacement(d, z_mean));
+            assert_true(fabs(mean_z(d) - z_mean) <= 1e-12 * fabs(z_mean) + 1e-12); /* the constraint from the start */
+            TS_OK(d, gfmd_relax(d, TOL, 1000000, NULL));
+            double area_p = 0.0, area_d = 0.0;
+            TS_OK(p, gfmd_get_contact_area(p, &area_p));
+            TS_OK(d, gfmd_get_contact_area(d, &area_d));
+            const double dz = max_abs_diff(p, d);
+            print_message("body %d solver %d: sigma0 %.6g -> %.10g at <z> = %.10g; A/A0 %.6f vs %.6f; max |dz| %.2e\n",
+                          body, (int)solver, sigma0, mean_p(d), z_mean, area_p, area_d, dz);
+            /* Both at the residual 1e-10 of the pressure scale: the mean pressures agree to a few
+             * 1e-8 (the residual bounds the force error per point; the position error follows it
+             * through the softest mode), the surfaces to 1e-6 of the unit roughness. */
+            assert_true(fabs(mean_p(d) - sigma0) <= 1e-6 * sigma0);
+            assert_true(fabs(area_p - area_d) <= 2.0 / N); /* a point or two on the edge of contact */
+            assert_true(dz <= 1e-6);
+            assert_true(fabs(mean_z(d) - z_mean) <= 1e-12 * fabs(z_mean) + 1e-12);
+            /* and back: the pressure found, prescribed, gives the position */
+            TS_OK(d, gfmd_sim_clone(d, &back));
+            TS_OK(back, gfmd_set_pressure(back, mean_p(d)));
+            TS_OK(back, gfmd_relax(back, TOL, 1000000, NULL));
+            assert_true(fabs(mean_z(back) - z_mean) <= 1e-6);
+            gfmd_sim_destroy(&p);
+            gfmd_sim_destroy(&d);
+            gfmd_sim_destroy(&back);
+        }
+}
+
+/* Quasi-static path of positions d_k, each relaxed; sigma_k, U_k = U_el - U_ad.  Returns the work
+ * of the mean pressure on the body, A sum (sigma_k + sigma_k+1)/2 (d_k - d_k+1) (trapezoid). */
+static double walk(gfmd_sim *s, const double *d, int n, double *sigma, double *u) {
+    double work = 0.0;
+    for (int k = 0; k < n; ++k) {
+        TS_OK(s, gfmd_set_mean_displacement(s, d[k]));
+        TS_OK(s, gfmd_relax(s, TOL, 1000000, NULL));
+        double el = 0.0, ad = 0.0;
+        TS_OK(s, gfmd_get_energies(s, &el, &ad));
+        sigma[k] = mean_p(s);
+        u[k] = el - ad;
+        if (k > 0) work += 0.5 * (sigma[k - 1] + sigma[k]) * (d[k - 1] - d[k]) * (double)N;
+    }
+    return work;
+}
+
+static void work_equals_energy_change(void **state) {
+    (void)state;
+    for (int body = 0; body < 3; body += 2) {
+        gfmd_sim *s = make(body, GFMD_SOLVER_FIRE);
+        double h[N], hmax = -INFINITY;
+        TS_OK(s, gfmd_get_heights(s, h));
+        for (int i = 0; i < N; ++i) hmax = fmax(hmax, h[i]);
+        enum { K = 41 };
+        double d[K], sigma[K], u[K];
+        for (int k = 0; k < K; ++k) d[k] = hmax - 0.3 - 0.6 * k / (K - 1.0); /* in contact all along */
+        const double work = walk(s, d, K, sigma, u);
+        const double du = u[K - 1] - u[0];
+        print_message("body %d: work %.8g, U_el - U_ad from %.8g to %.8g (change %.8g), sigma %.4g -> %.4g\n", body,
+                      work, u[0], u[K - 1], du, sigma[0], sigma[K - 1]);
+        /* The trapezoid rule on 40 steps of a piecewise smooth sigma(d) (it bends where points
+         * enter the contact): error measured below 1e-3 of the change; 1 % asserted. */
+        assert_true(sigma[K - 1] > sigma[0]);
+        assert_true(fabs(work - du) <= 1e-2 * fabs(du));
+        gfmd_sim_destroy(&s);
+    }
+}
+
+static void no_hysteresis_without_adhesion(void **state) {
+    (void)state;
+    gfmd_sim *s = make(1, GFMD_SOLVER_FIRE);
+    double h[N], hmax = -INFINITY;
+    TS_OK(s, gfmd_get_heights(s, h));
+    for (int i = 0; i < N; ++i) hmax = fmax(hmax, h[i]);
+    enum { K = 12 };
+    double down[K], up[K], sd[K], su[K], ud[K], uu[K];
+    for (int k = 0; k < K; ++k) down[k] = hmax - 0.3 - 0.05 * k;
+    for (int k = 0; k < K; ++k) up[k] = down[K - 1 - k];
+    walk(s, down, K, sd, ud);
+    walk(s, up, K, su, uu);
+    for (int k = 0; k < K; ++k) {
+        /* one equilibrium per position: the same pressure on both branches, to the residual */
+        const double a = sd[k], b = su[K - 1 - k];
+        assert_true(fabs(a - b) <= 1e-6 * fmax(fabs(a), 1e-3));
+    }
+    gfmd_sim_destroy(&s);
+}
+
+static void constraint_errors_and_checkpoint(void **state) {
+    (void)state;
+    gfmd_sim *s = make(2, GFMD_SOLVER_FIRE_MASS), *t = NULL;
+    /* mass-weighted FIRE refuses the mode, in both orders, and changes nothing */
+    double h0[N], hm = 0.0;
+    TS_OK(s, gfmd_get_heights(s, h0));
+    for (int i = 0; i < N; ++i) hm += h0[i] / N;
+    assert_int_equal(gfmd_set_mean_displacement(s, hm + 0.4), GFMD_ERR_STATE);
+    TS_OK(s, gfmd_set_solver(s, GFMD_SOLVER_FIRE));
+    TS_OK(s, gfmd_set_mean_displacement(s, hm + 0.4));
+    assert_int_equal(gfmd_set_solver(s, GFMD_SOLVER_FIRE_MASS), GFMD_ERR_STATE);
+    TS_OK(s, gfmd_set_pressure(s, 0.0));
+    double h[N], hmean = 0.0;
+    TS_OK(s, gfmd_get_heights(s, h));
+    for (int i = 0; i < N; ++i) hmean += h[i] / N;
+    const double before = mean_z(s);
+    assert_int_equal(gfmd_set_mean_displacement(s, hmean - 0.01), GFMD_ERR_INVALID_ARG);
+    assert_int_equal(gfmd_set_mean_displacement(s, NAN), GFMD_ERR_INVALID_ARG);
+    assert_int_equal(gfmd_set_mean_displacement(NULL, 0.0), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_get_mean_pressure(s, NULL), GFMD_ERR_NULL);
+    assert_true(mean_z(s) == before); /* refused: nothing moved */
+    const double d = hmean + 0.4;
+    TS_OK(s, gfmd_set_mean_displacement(s, d));
+    for (int k = 0; k < 5; ++k) {
+        TS_OK(s, gfmd_step(s, 7));
+        assert_true(fabs(mean_z(s) - d) <= 1e-12); /* after every call, to rounding */
+    }
+    /* a substrate whose mean lies above the prescribed position cannot take the body */
+    for (int i = 0; i < N; ++i) h[i] += 1.0;
+    assert_int_equal(gfmd_set_heights(s, h), GFMD_ERR_INVALID_ARG);
+    /* the mode survives a checkpoint, and the run resumes bit for bit */
+    TS_OK(s, gfmd_sim_save(s, "test_displacement.gfmd"));
+    assert_int_equal(gfmd_sim_load("test_displacement.gfmd", &t, NULL, 0), GFMD_OK);
+    TS_OK(s, gfmd_step(s, 40));
+    TS_OK(t, gfmd_step(t, 40));
+    assert_true(max_abs_diff(s, t) == 0.0);
+    assert_true(mean_p(s) == mean_p(t));
+    /* pressure control again */
+    TS_OK(s, gfmd_set_pressure(s, 0.02));
+    assert_true(mean_p(s) == 0.02);
+    remove("test_displacement.gfmd");
+    gfmd_sim_destroy(&s);
+    gfmd_sim_destroy(&t);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(pressure_and_displacement_control_agree),
+        cmocka_unit_test(work_equals_energy_change),
+        cmocka_unit_test(no_hysteresis_without_adhesion),
+        cmocka_unit_test(constraint_errors_and_checkpoint),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
