@@ -47,6 +47,9 @@ module gfmd
     procedure, private :: sim_generate_selfaffine, sim_generate_selfaffine_i32
     generic :: generate_selfaffine => sim_generate_selfaffine, sim_generate_selfaffine_i32
     procedure :: set_pressure => sim_set_pressure
+    procedure :: set_mean_displacement => sim_set_mean_displacement
+    procedure :: get_mean_displacement => sim_get_mean_displacement
+    procedure :: get_mean_pressure => sim_get_mean_pressure
     procedure :: set_adhesion => sim_set_adhesion
     procedure :: set_timestep => sim_set_timestep
     procedure :: set_damping => sim_set_damping
@@ -494,6 +497,34 @@ contains
     character(*), intent(out), optional :: errmsg
     call finish(self%ptr, c_gfmd_set_pressure(self%ptr, sigma0), 'set_pressure', stat, errmsg)
   end subroutine sim_set_pressure
+
+  !> Displacement control: mean(z) = d (gfmd_set_mean_displacement()); set_pressure returns to
+  !> pressure control.
+  subroutine sim_set_mean_displacement(self, d, stat, errmsg)
+    class(gfmd_sim_t), intent(inout) :: self
+    real(dp), intent(in) :: d
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    call finish(self%ptr, c_gfmd_set_mean_displacement(self%ptr, d), 'set_mean_displacement', stat, errmsg)
+  end subroutine sim_set_mean_displacement
+
+  !> mean(z), under either control.
+  subroutine sim_get_mean_displacement(self, d, stat, errmsg)
+    class(gfmd_sim_t), intent(in) :: self
+    real(dp), intent(out) :: d
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    call finish(self%ptr, c_gfmd_get_mean_displacement(self%ptr, d), 'get_mean_displacement', stat, errmsg)
+  end subroutine sim_get_mean_displacement
+
+  !> The mean pressure the body carries (sigma0, or the balancing one under displacement control).
+  subroutine sim_get_mean_pressure(self, p, stat, errmsg)
+    class(gfmd_sim_t), intent(in) :: self
+    real(dp), intent(out) :: p
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    call finish(self%ptr, c_gfmd_get_mean_pressure(self%ptr, p), 'get_mean_pressure', stat, errmsg)
+  end subroutine sim_get_mean_pressure
 
   subroutine sim_set_adhesion(self, gamma0, rho, stat, errmsg)
     class(gfmd_sim_t), intent(inout) :: self

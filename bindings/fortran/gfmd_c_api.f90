@@ -8,6 +8,7 @@ module gfmd_c_api
   public :: c_gfmd_sim_create, c_gfmd_sim_create_ex, c_gfmd_restart_solver, c_gfmd_sim_clone, c_gfmd_sim_destroy, c_gfmd_get_grid
   public :: c_gfmd_set_modulus, c_gfmd_set_green, c_gfmd_set_poisson, c_gfmd_green_factor
   public :: c_gfmd_set_heights, c_gfmd_get_heights, c_gfmd_generate_selfaffine
+  public :: c_gfmd_set_mean_displacement, c_gfmd_get_mean_displacement, c_gfmd_get_mean_pressure
   public :: c_gfmd_set_pressure, c_gfmd_set_adhesion, c_gfmd_set_timestep, c_gfmd_set_damping
   public :: c_gfmd_set_solver, c_gfmd_get_dynamics, c_gfmd_step, c_gfmd_relax, c_gfmd_get_residual
   public :: c_gfmd_reset, c_gfmd_get_contact_area, c_gfmd_get_mean_gap, c_gfmd_get_energies
@@ -138,6 +139,30 @@ module gfmd_c_api
       real(c_double), value :: hurst, lambda_r, lambda_s, rms_gradient
       integer(c_int64_t), value :: seed  ! uint64_t: same bits for seeds >= 0
       integer(c_int32_t), value :: distribution
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_set_mean_displacement(gfmd_sim *s, double d);
+    function c_gfmd_set_mean_displacement(s, d) bind(C, name="gfmd_set_mean_displacement") result(r)
+      import :: c_ptr, c_int32_t, c_double
+      type(c_ptr), value :: s
+      real(c_double), value :: d
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_get_mean_displacement(const gfmd_sim *s, double *d);
+    function c_gfmd_get_mean_displacement(s, d) bind(C, name="gfmd_get_mean_displacement") result(r)
+      import :: c_ptr, c_int32_t, c_double
+      type(c_ptr), value :: s
+      real(c_double), intent(out) :: d
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_get_mean_pressure(const gfmd_sim *s, double *p);
+    function c_gfmd_get_mean_pressure(s, p) bind(C, name="gfmd_get_mean_pressure") result(r)
+      import :: c_ptr, c_int32_t, c_double
+      type(c_ptr), value :: s
+      real(c_double), intent(out) :: p
       integer(c_int32_t) :: r
     end function
 

@@ -277,6 +277,20 @@ class Simulation:
     def set_adhesion(self, gamma0, rho):
         self._call("gfmd_set_adhesion", float(gamma0), float(rho))
 
+    def set_mean_displacement(self, d):
+        """Displacement control: mean(z) = d; the mean pressure follows (set_pressure returns)."""
+        self._call("gfmd_set_mean_displacement", float(d))
+
+    @property
+    def mean_displacement(self):
+        """mean(z), under either control."""
+        return self._scalar("gfmd_get_mean_displacement")
+
+    @property
+    def mean_pressure(self):
+        """The mean pressure the body carries: sigma0, or the balancing one under displacement control."""
+        return self._scalar("gfmd_get_mean_pressure")
+
     def set_timestep(self, dt):
         self._call("gfmd_set_timestep", float(dt))
 

@@ -220,3 +220,24 @@ def test_readme_example():
     scope = {}
     exec(compile(code, "README.md", "exec"), scope)
     assert scope["steps"] > 0 and scope["gap"].shape == (256, 256) and scope["gap"].min() == 0.0
+
+
+def test_displacement_control_matches_pressure_control():
+    """The position of a pressure-controlled equilibrium, prescribed, gives back its pressure (as the
+    C test_displacement checks on more bodies)."""
+    with gfmd.Simulation(48, 40, 48.0, 40.0, threads=1, planner=gfmd.ESTIMATE) as p:
+        p.generate_selfaffine(0.8, 16.0, 4.0, 0.5, 11)
+        p.set_pressure(0.03)
+        p.relax(tol=1e-9)
+        assert p.mean_pressure == 0.03
+        d = p.mean_displacement
+        q = p.clone()
+        q.reset()
+        q.set_mean_displacement(d)
+        q.relax(tol=1e-9)
+        assert q.mean_displacement == pytest.approx(d, abs=1e-12)
+        assert q.mean_pressure == pytest.approx(0.03, rel=1e-6)
+        assert np.abs(q.surface() - p.surface()).max() < 1e-6
+        with pytest.raises(gfmd.InvalidArgument):
+            q.set_mean_displacement(p.heights().mean() - 1.0)
+        q.close()

@@ -50,7 +50,7 @@ contains
     integer(c_int64_t), parameter :: seed = 2_c_int64_t**40 + 3_c_int64_t
     type(gfmd_sim_t) :: a, b
     type(c_ptr) :: p
-    real(dp) :: hf(nx, ny), hc(nx * ny), h32(nx, ny), za(nx, ny), zb(nx, ny)
+    real(dp) :: hf(nx, ny), hc(nx * ny), h32(nx, ny), za(nx, ny), zb(nx, ny), dmean, pmean
     integer :: threads, st
 
     call a%create(nx, ny, real(nx, dp), real(ny, dp), threads=1, planner=GFMD_PLANNER_ESTIMATE)
@@ -83,6 +83,15 @@ contains
     call check(all(za == zb), 'restart_solver restarts as a change of the landscape does')
     call a%create(nx, ny, 1.0_dp, 1.0_dp, planner=99, stat=st)
     call check(st == GFMD_ERR_BAD_ENUM, 'an unknown planner at creation is refused')
+    ! displacement control through the module: the prescribed mean holds, the pressure follows
+    call b%set_mean_displacement(maxval(hf) - 0.3_dp)
+    call b%relax()
+    call b%get_mean_displacement(dmean)
+    call b%get_mean_pressure(pmean)
+    call check(abs(dmean - (maxval(hf) - 0.3_dp)) <= 1e-12_dp, 'set_mean_displacement holds the mean of z')
+    call check(pmean > 0.0_dp, 'a body pressed below the highest peak carries a compressive mean pressure')
+    call b%set_mean_displacement(-1e3_dp, stat=st)
+    call check(st == GFMD_ERR_INVALID_ARG, 'a mean below the substrate is refused')
     call a%destroy()
     call b%destroy()
   end subroutine wide_seed_and_creation_options
