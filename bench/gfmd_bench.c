@@ -4,6 +4,8 @@
  *
  *   gfmd_bench [--sizes 256,512,1024,2048] [--big] [--widths 0,0.5,1,4] [--threads N]
  *              [--cg-seconds S] [--no-cg] [--sigma0 S] [--solver fire|mass|verlet]
+ *   gfmd_bench ... --bonded NU   the layers bonded to a rigid base (Poisson's ratio NU) instead of on a
+ *                                fluid foundation, in both GFMD and the CG reference
  *   gfmd_bench --contention [--sizes 512,1024,2048]
  *
  * --contention: threads on a shared machine.  For each size, a half-space (seed 1, sigma0 = 0.05)
@@ -179,7 +181,7 @@ static int contention_table(const double *sizes, int nsizes) {
 int main(int argc, char **argv) {
     double sizes[8] = {256, 512, 1024, 2048}, widths[8] = {0, 0.5, 1, 4};
     int nsizes = 4, nwidths = 4, threads = 1, cg = 1, contention = 0;
-    double cg_seconds = 120.0, sigma0 = 0.05;
+    double cg_seconds = 120.0, sigma0 = 0.05, bonded_nu = NAN;
     int32_t solver = GFMD_SOLVER_FIRE;
     const char *solver_names[] = {"Verlet", "FIRE", "mass-weighted FIRE"};
     for (int i = 1; i < argc; ++i) {
@@ -190,6 +192,7 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--cg-seconds") && i + 1 < argc) cg_seconds = atof(argv[++i]);
         else if (!strcmp(argv[i], "--no-cg")) cg = 0;
         else if (!strcmp(argv[i], "--contention")) contention = 1;
+        else if (!strcmp(argv[i], "--bonded") && i + 1 < argc) bonded_nu = atof(argv[++i]);
         else if (!strcmp(argv[i], "--sigma0") && i + 1 < argc) sigma0 = atof(argv[++i]);
         else if (!strcmp(argv[i], "--solver") && i + 1 < argc) {
             ++i;
@@ -204,12 +207,21 @@ int main(int argc, char **argv) {
         }
     }
     if (contention) return contention_table(sizes, nsizes);
+    const int32_t layer = isnan(bonded_nu) ? GFMD_GREEN_LAYER_FLUID : GFMD_GREEN_LAYER_BONDED;
+    if (layer == GFMD_GREEN_LAYER_BONDED && !(bonded_nu > -1.0 && bonded_nu <= 0.5)) {
+        fprintf(stderr, "gfmd_bench: --bonded needs a Poisson ratio in (-1, 0.5]\n");
+        return 2;
+    }
     if (threads < 1) threads = 1;
     /* FFT pairs per step: mass weighting transforms the projected force as well */
     const int pairs = (solver == GFMD_SOLVER_FIRE_MASS) ? 2 : 1;
     printf("gfmd %s benchmark: H = 0.8, lambda_s = 4a, lambda_r = n a/8, g = 1, E* = 1, sigma0 = %g, "
            "%d thread(s), FFTW_MEASURE, default tol %.0e, %s (%d FFT pair(s) per step)\n", gfmd_version(), sigma0,
            threads, GFMD_DEFAULT_TOL, solver_names[solver], pairs);
+    if (layer == GFMD_GREEN_LAYER_BONDED)
+        printf("layers (W > 0) bonded to a rigid base, nu = %g, w = 4 W a\n", bonded_nu);
+    else
+        printf("layers (W > 0) on a fluid foundation, w = 4 W a\n");
     printf("%5s %5s | %6s %8s %9s %9s %6s | %8s | %6s %8s | %7s %8s | %8s | %7s %6s\n", "n", "W", "steps", "seconds",
            "s/step", "fft", "ratio", "A/A0", "steps", "s", "CG its", "CG s", "speedup", "peak MB", "B/pt");
     printf("%5s %5s | %-43s | %8s | %-15s | %-16s | %8s | %14s\n", "", "", "GFMD to the default tolerance",
@@ -228,7 +240,9 @@ int main(int argc, char **argv) {
             if ((st = gfmd_set_threads(s, threads)) != GFMD_OK) die(s, st, "threads");
             if ((st = gfmd_generate_selfaffine(s, 0.8, l / 8.0, 4.0, 1.0, 2016, GFMD_DIST_UNIFORM)) != GFMD_OK)
                 die(s, st, "substrate");
-            if (W > 0 && (st = gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, W * 4.0)) != GFMD_OK) die(s, st, "green");
+            if (W > 0 && layer == GFMD_GREEN_LAYER_BONDED && (st = gfmd_set_poisson(s, bonded_nu)) != GFMD_OK)
+                die(s, st, "poisson");
+            if (W > 0 && (st = gfmd_set_green(s, layer, W * 4.0)) != GFMD_OK) die(s, st, "green");
             if ((st = gfmd_set_solver(s, solver)) != GFMD_OK) die(s, st, "solver");
             if ((st = gfmd_set_pressure(s, sigma0)) != GFMD_OK) die(s, st, "pressure");
             /* the converged value, untimed, then the same start again */
@@ -263,8 +277,8 @@ int main(int argc, char **argv) {
             gfmd_sim_destroy(&s);
             if (cg) {
                 cg_options opt = {1e-12, 100000000, cg_seconds, threads, FFTW_MEASURE, area_conv, 1e-3};
-                r = cg_solve_opts(n, n, l, l, h, W > 0 ? GFMD_GREEN_LAYER_FLUID : GFMD_GREEN_HALFSPACE, W * 4.0, 0.0,
-                                  1.0, sigma0, &opt, NULL, NULL);
+                r = cg_solve_opts(n, n, l, l, h, W > 0 ? layer : GFMD_GREEN_HALFSPACE, W * 4.0,
+                                  isnan(bonded_nu) ? 0.0 : bonded_nu, 1.0, sigma0, &opt, NULL, NULL);
                 free(h);
             }
             char cg_its[32] = "-", cg_s[32] = "-", speed[32] = "-";
