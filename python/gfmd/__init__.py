@@ -106,10 +106,6 @@ def version():
     return _c().gfmd_version().decode()
 
 
-def _double_out():
-    return ctypes.c_double()
-
-
 def green_factor(kind, t, nu=0.0):
     """f(t) of a body (HALFSPACE, LAYER_FLUID, LAYER_BONDED) at t = q w."""
     f = ctypes.c_double()
