@@ -264,7 +264,7 @@ std::unique_ptr<Simulation> Simulation::load(const char *path) {
         if (params.control == kDisplacementControl) {
             // The saved z already holds its mean: adopted as it is (a new projection could move it
             // by a rounding and the resumed run would differ in the last bits).
-            s->check_mean_displacement(params.mean_z);
+            s->check_mean_displacement(params.mean_z, fl.h.data());
             s->params_.control = kDisplacementControl;
             s->params_.mean_z = params.mean_z;
         } else if (params.control != kPressureControl) {

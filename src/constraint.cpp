@@ -5,22 +5,13 @@
 
 namespace gfmd {
 
-double grid_mean(const FftGrid &grid, const double *x) {
-    const auto s = grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
-        double t = 0.0;
-        for (int64_t i = i0; i < i1; ++i) t += x[i];
-        acc[0] += t;
-    });
-    return s[0] / static_cast<double>(grid.real_size());
-}
-
 void project_mean(const FftGrid &grid, Fields &fields, double d) {
     double *z = fields.z.data(), *v = fields.v.data();
     const double *h = fields.h.data();
     const double n = static_cast<double>(grid.real_size());
     // mean(max(h, z + c)) >= mean(z) + c: from c = d - mean(z) the mean is at or above d, and
     // Newton's steps on the convex mean(c) approach the root from above.
-    double c = d - grid_mean(grid, z);
+    double c = d - grid.mean(z);
     const double tol = 4.0 * 2.220446049250313e-16 * (std::fabs(d) + std::fabs(c) + 1.0);
     for (int it = 0; it < 100; ++it) {
         const auto s = grid.sum_points<2>([&](int64_t i0, int64_t i1, double *acc) {

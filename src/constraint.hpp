@@ -7,9 +7,6 @@
 
 namespace gfmd {
 
-// The mean of a local field over the whole grid.
-double grid_mean(const FftGrid &grid, const double *x);
-
 // The nearest configuration (Euclidean) with mean(z) = d and z >= h: z_i = max(h_i, z_i + c) with
 // the one shift c that gives the mean (found by Newton's method on the convex, piecewise linear
 // mean(c), from the right: finitely many steps); points it puts on the wall stop (v = 0).

@@ -82,6 +82,15 @@ public:
         reduce(s.data(), K);
         return s;
     }
+    // The mean of a local field over the whole grid (fixed blocks: independent of the threads).
+    double mean(const double *x) const {
+        const auto s = sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
+            double t = 0.0;
+            for (int64_t i = i0; i < i1; ++i) t += x[i];
+            acc[0] += t;
+        });
+        return s[0] / static_cast<double>(real_size());
+    }
     // The one global reduction: sums x[0..k) over all processes (serial: nothing to do); and its
     // twin for extremes, x[i] = the largest over all processes.
     void reduce(double *, int) const {}

@@ -142,13 +142,7 @@ void Simulation::set_poisson(double nu) {
 // A new substrate resets the body to flat and at rest; the old substrate comes back, with z and v,
 // if the new state overflows.
 void Simulation::change_substrate(RealBuffer &&h) {
-    if (params_.control == kDisplacementControl) {
-        const double mean_h = grid_mean(grid_, h.data());
-        if (params_.mean_z < mean_h)
-            fail(GFMD_ERR_INVALID_ARG, "the prescribed mean displacement " + num(params_.mean_z) +
-                                           " is below this substrate's mean height " + num(mean_h) +
-                                           ": the body cannot reach it; set a load first");
-    }
+    if (params_.control == kDisplacementControl) check_mean_displacement(params_.mean_z, h.data());
     undo_.save(fields_);
     change(
         "this substrate",
@@ -194,9 +188,9 @@ void Simulation::set_pressure(double sigma0) {
         [&] { params_ = old; });
 }
 
-void Simulation::check_mean_displacement(double d) const {
+void Simulation::check_mean_displacement(double d, const double *h) const {
     require_finite(d, "the mean displacement");
-    const double mean_h = grid_mean(grid_, fields_.h.data());
+    const double mean_h = grid_.mean(h);
     if (d < mean_h)
         fail(GFMD_ERR_INVALID_ARG, "the mean displacement " + num(d) + " is below the substrate's mean height " +
                                        num(mean_h) + ": a body with z >= h cannot have that mean");
@@ -214,7 +208,7 @@ constexpr const char *kNoMassWeighting =
 
 void Simulation::set_mean_displacement(double d) {
     if (params_.solver == GFMD_SOLVER_FIRE_MASS) fail(GFMD_ERR_STATE, kNoMassWeighting);
-    check_mean_displacement(d);
+    check_mean_displacement(d, fields_.h.data());
     const Params old = params_;
     undo_.save(fields_);
     change(
@@ -230,7 +224,7 @@ void Simulation::set_mean_displacement(double d) {
         });
 }
 
-double Simulation::mean_displacement() const { return grid_mean(grid_, fields_.z.data()); }
+double Simulation::mean_displacement() const { return grid_.mean(fields_.z.data()); }
 
 void Simulation::set_adhesion(double gamma0, double rho) {
     require_finite(gamma0, "gamma0");

@@ -45,7 +45,8 @@ public:
     void set_pressure(double sigma0);  // pressure control
     // Displacement control: mean(z) = d; throws GFMD_ERR_INVALID_ARG if d < mean(h) (or not finite).
     void set_mean_displacement(double d);
-    void check_mean_displacement(double d) const;
+    // Throws GFMD_ERR_INVALID_ARG unless d is finite and >= the mean of the substrate h.
+    void check_mean_displacement(double d, const double *h) const;
     void set_adhesion(double gamma0, double rho);
     void set_timestep(double dt);
     void set_damping(double eta);
