@@ -123,6 +123,9 @@ static int32_t adhesion_nan(gfmd_sim *s) { return gfmd_set_adhesion(s, NAN, 0.5)
 static int32_t adhesion_rho_zero(gfmd_sim *s) { return gfmd_set_adhesion(s, 1e-3, 0.0); }
 static int32_t adhesion_rho_inf(gfmd_sim *s) { return gfmd_set_adhesion(s, 1e-3, INFINITY); }
 static int32_t adhesion_overflow(gfmd_sim *s) { return gfmd_set_adhesion(s, 1e300, 1e-300); }
+static int32_t position_below_substrate(gfmd_sim *s) { return gfmd_set_mean_displacement(s, -1e6); }
+static int32_t position_nan(gfmd_sim *s) { return gfmd_set_mean_displacement(s, NAN); }
+static int32_t mean_pressure_null(gfmd_sim *s) { return gfmd_get_mean_pressure(s, NULL); }
 static int32_t timestep_negative(gfmd_sim *s) { return gfmd_set_timestep(s, -1.0); }
 static int32_t timestep_nan(gfmd_sim *s) { return gfmd_set_timestep(s, NAN); }
 static int32_t damping_negative(gfmd_sim *s) { return gfmd_set_damping(s, -1.0); }
@@ -181,6 +184,9 @@ static const failing CALLS[] = {
     {"rho 0", GFMD_ERR_INVALID_ARG, adhesion_rho_zero},
     {"rho inf", GFMD_ERR_INVALID_ARG, adhesion_rho_inf},
     {"adhesive stiffness overflowing", GFMD_ERR_RANGE, adhesion_overflow},
+    {"mean position below the substrate's mean", GFMD_ERR_INVALID_ARG, position_below_substrate},
+    {"mean position NaN", GFMD_ERR_INVALID_ARG, position_nan},
+    {"mean pressure into NULL", GFMD_ERR_NULL, mean_pressure_null},
     {"dt < 0", GFMD_ERR_INVALID_ARG, timestep_negative},
     {"dt NaN", GFMD_ERR_INVALID_ARG, timestep_nan},
     {"damping < 0", GFMD_ERR_INVALID_ARG, damping_negative},
