@@ -1,7 +1,5 @@
 #include "fft_grid.hpp"
 
-#include <omp.h>
-
 #include <algorithm>
 #include <climits>
 #include <mutex>

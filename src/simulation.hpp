@@ -33,7 +33,6 @@ public:
     static std::unique_ptr<Simulation> load(const char *path);
 
     const FftGrid &grid() const { return grid_; }
-    const Params &params() const { return params_; }
 
     // Setters check everything before changing anything (a failed call changes nothing).  Those
     // that change the energy landscape or the dynamics restart the solver.
