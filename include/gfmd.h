@@ -223,7 +223,16 @@ GFMD_API int32_t gfmd_set_timestep(gfmd_sim *s, double dt);
 GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
 
 /**
- * Method used by gfmd_step() and gfmd_relax(): GFMD_SOLVER_FIRE (default; adapts its step up to
+ * Method used by gfmd_step() and gfmd_relax(): GFMD_SOLVER_AUTO (the default: GFMD_SOLVER_CG for a
+ * non-adhesive body (pressure or displacement control) whose grid points times stiffness ratio
+ * k_max/k_min is at most 4e6 -- a bonded coating, a half-space up to about 128^2 -- otherwise
+ * GFMD_SOLVER_FIRE; re-chosen whenever the body, the adhesion or the load control changes; the
+ * rule and its measurements are in docs/performance.md; gfmd_get_solver() tells the choice),
+ * GFMD_SOLVER_CG (projected conjugate gradients on the surface: exact line search along each
+ * direction, one forward transform more per iteration than FIRE's step; for the non-adhesive
+ * problem only -- GFMD_ERR_STATE with adhesion, and gfmd_set_adhesion() with gamma0 > 0 refuses
+ * while it is chosen; one "step" of gfmd_step()/gfmd_relax() is one iteration),
+ * GFMD_SOLVER_FIRE (adapts its step up to
  * the time step and needs no damping), GFMD_SOLVER_FIRE_MASS (FIRE with each Fourier mode's inertia
  * taken from its stiffness, floored at the stiffness of the current contact spacing; points the wall
  * holds are kept still; its own time step, so gfmd_set_timestep() does not apply) or
@@ -234,6 +243,9 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * (docs/performance.md).
  */
 GFMD_API int32_t gfmd_set_solver(gfmd_sim *s, int32_t solver);
+
+/** The solver that steps now: the one set, or the one GFMD_SOLVER_AUTO chose (never AUTO). */
+GFMD_API int32_t gfmd_get_solver(const gfmd_sim *s, int32_t *solver);
 
 /**
  * Threads used by this handle: FFTW's transforms and the library's own loops, on a pool of threads

@@ -264,6 +264,13 @@ int32_t gfmd_set_threads(gfmd_sim *s, int32_t nthreads) {
     return guarded(s, [&](gfmd::Simulation &m) { m.set_threads(nthreads); });
 }
 
+int32_t gfmd_get_solver(const gfmd_sim *s, int32_t *solver) {
+    return guarded(s, [&](const gfmd::Simulation &m) {
+        need(solver, "solver");
+        *solver = m.active_solver();
+    });
+}
+
 int32_t gfmd_get_threads(const gfmd_sim *s, int32_t *nthreads) {
     return guarded(s, [&](const gfmd::Simulation &m) {
         need(nthreads, "nthreads");

@@ -27,7 +27,7 @@ constexpr int32_t kPressureControl = 0, kDisplacementControl = 1;
     X(double, rho, 1.0, 1)                       /* adhesion: range */                            \
     X(double, dt_user, 0.0, 1)                   /* time step, 0 = automatic */                   \
     X(double, eta_user, 0.0, 1)                  /* damping, 0 = automatic */                     \
-    X(int32_t, solver, GFMD_SOLVER_FIRE, 1)      /* GFMD_SOLVER_* */                              \
+    X(int32_t, solver, GFMD_SOLVER_AUTO, 1)      /* GFMD_SOLVER_* */                              \
     X(int32_t, control, kPressureControl, 3)     /* what the load prescribes */                   \
     X(double, mean_z, 0.0, 3)                    /* displacement control: the mean of z */
 

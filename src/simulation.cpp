@@ -45,7 +45,8 @@ Simulation::Simulation(int64_t nx, int64_t ny, double lx, double ly, int threads
       dynamics_(dynamics_for(params_, body_)),
       fields_(grid_),
       undo_(grid_),
-      solver_(make_solver(params_.solver, grid_, dynamics_)) {
+      active_solver_(resolve_solver(params_.solver)),
+      solver_(make_solver(active_solver_, grid_, dynamics_)) {
     fields_.put_flat_at_rest(grid_);
     refresh_forces();
 }
@@ -61,6 +62,7 @@ std::unique_ptr<Simulation> Simulation::clone() const {
     c->fields_.h = copy_of(fields_.h);
     c->fields_.z = copy_of(fields_.z);
     c->fields_.v = copy_of(fields_.v);
+    c->active_solver_ = active_solver_;
     c->solver_ = solver_->clone();
     c->refresh_forces();
     return c;
@@ -77,6 +79,7 @@ void Simulation::change(const char *what, Apply &&apply, Undo &&undo) {
     apply();
     refresh_forces();
     if (forces_.finite()) {
+        follow_auto_choice();
         solver_->restart(dynamics_);
         return;
     }
@@ -200,6 +203,10 @@ void Simulation::apply_control() {
     if (params_.control == kDisplacementControl) project_mean(grid_, fields_, params_.mean_z);
 }
 
+constexpr const char *kCgNotAdhesive =
+    "the CG solver minimizes the non-adhesive (quadratic) problem; with adhesion choose GFMD_SOLVER_FIRE, "
+    "GFMD_SOLVER_FIRE_MASS, GFMD_SOLVER_VERLET or GFMD_SOLVER_AUTO";
+
 // Mass-weighted FIRE's preconditioned step moves the contact spacing's long modes together; with
 // the mean held by the projection it stalled (residual 0.1-0.3 after 1e6 steps, measured), so the
 // combination is refused rather than left to fail.
@@ -233,6 +240,7 @@ void Simulation::set_adhesion(double gamma0, double rho) {
     if (rho <= 0.0) fail(GFMD_ERR_INVALID_ARG, "rho must be > 0, got " + num(rho));
     if (!std::isfinite(gamma0 / (rho * rho)) || !std::isfinite(gamma0 / rho))
         fail(GFMD_ERR_RANGE, "the adhesive stiffness gamma0/rho^2 overflows");
+    if (gamma0 > 0.0 && params_.solver == GFMD_SOLVER_CG) fail(GFMD_ERR_STATE, kCgNotAdhesive);
     const Params old = params_;
     const Dynamics old_dynamics = dynamics_;
     change(
@@ -264,10 +272,36 @@ void Simulation::set_damping(double eta) {
     solver_->restart(dynamics_);
 }
 
+// GFMD_SOLVER_AUTO's rule, from measurements (docs/performance.md, "Choosing the solver"): CG
+// needs fewer force evaluations than FIRE when the body's modes span a small range of stiffness
+// on a small grid (under either load control); each CG iteration costs about 1.4 FIRE steps, and CG's iterations grow faster
+// with the grid and with the stiffness ratio k_max/k_min than FIRE's steps.  Measured from flat
+// (self-affine, A/A0 ~ 0.1), CG was faster up to N k_max/k_min ~ 1.5e7 and slower beyond; in load
+// sweeps, where each load starts from the last equilibrium, CG lost its edge already at
+// N k_max/k_min = 1.2e7 (256^2 half-space).  The bound below keeps CG where it won both.
+constexpr double kAutoCgBound = 4e6;
+
+int32_t Simulation::resolve_solver(int32_t requested) const {
+    if (requested != GFMD_SOLVER_AUTO) return requested;
+    const bool quadratic = !(params_.gamma0 > 0.0);
+    const double spread = static_cast<double>(grid_.real_size()) * (body_.k_max / body_.k_min);
+    return (quadratic && spread <= kAutoCgBound) ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE;
+}
+
+void Simulation::follow_auto_choice() {
+    const int32_t kind = resolve_solver(params_.solver);
+    if (kind == active_solver_) return;
+    solver_ = make_solver(kind, grid_, dynamics_);  // CG or FIRE: nothing to allocate, cannot fail
+    active_solver_ = kind;
+}
+
 void Simulation::set_solver(int32_t solver) {
     if (solver == GFMD_SOLVER_FIRE_MASS && params_.control == kDisplacementControl)
         fail(GFMD_ERR_STATE, kNoMassWeighting);
-    solver_ = make_solver(solver, grid_, dynamics_);  // a new, restarted solver; the old one freed
+    if (solver == GFMD_SOLVER_CG && params_.gamma0 > 0.0) fail(GFMD_ERR_STATE, kCgNotAdhesive);
+    const int32_t kind = resolve_solver(solver);
+    solver_ = make_solver(kind, grid_, dynamics_);  // a new, restarted solver; the old one freed
+    active_solver_ = kind;
     params_.solver = solver;
 }
 

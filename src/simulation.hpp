@@ -56,6 +56,8 @@ public:
     void restart_solver() { solver_->restart(dynamics_); }
 
     const Dynamics &dynamics() const { return dynamics_; }
+    // The solver that steps now: the one set, or the one GFMD_SOLVER_AUTO chose.
+    int32_t active_solver() const { return active_solver_; }
 
     // Dynamics: both continue the solver's trajectory where the last call stopped.  Throw
     // Error(GFMD_ERR_DIVERGED) after restoring the state of the call's start.
@@ -83,6 +85,8 @@ private:
     void change_body(const char *what, const Params &p);
     void change_substrate(RealBuffer &&h);
     void apply_control();  // under displacement control: z projected onto mean(z) = mean_z
+    int32_t resolve_solver(int32_t requested) const;
+    void follow_auto_choice();  // under GFMD_SOLVER_AUTO: the solver for the current problem
     [[noreturn]] void diverged(int64_t step, const std::vector<double> &solver_state);
 
     FftGrid grid_;
@@ -92,6 +96,7 @@ private:
     Fields fields_;
     Snapshot undo_;
     ForceState forces_;
+    int32_t active_solver_;
     std::unique_ptr<Solver> solver_;
 };
 

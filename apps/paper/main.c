@@ -3,7 +3,7 @@
  * substrate, the collapse factor c(W), the separation, and the adhesive energy ratio theta.
  *
  *   gfmd_paper [--n N] [--bandwidth R] [--full | --quick] [--out DIR] [--seed S] [--threads T]
- *              [--no-adhesion] [--widths 0,W1,W2,...] [--solver fire|mass]
+ *              [--no-adhesion] [--widths 0,W1,W2,...] [--solver auto|fire|mass|cg]
  *
  * Surface: H = 0.8, lambda_s = 4a, lambda_r = R lambda_s, cell L = N a (default N = 256, R = 32,
  * L = 2 lambda_r; --full: N = 2048, R = 64, L = 8 lambda_r as in the paper; --quick, the test's
@@ -44,7 +44,7 @@ void die(const gfmd_sim *s, int32_t st, const char *what) {
 }
 
 static void usage(const char *argv0) {
-    fprintf(stderr, "usage: %s [--n N] [--bandwidth R] [--full | --quick] [--out DIR] [--seed S] [--threads T] [--no-adhesion] [--widths 0,W1,...] [--solver fire|mass]\n",
+    fprintf(stderr, "usage: %s [--n N] [--bandwidth R] [--full | --quick] [--out DIR] [--seed S] [--threads T] [--no-adhesion] [--widths 0,W1,...] [--solver auto|fire|mass|cg]\n",
             argv0);
     exit(2);
 }
@@ -55,7 +55,7 @@ static void set_widths(double *to, int *n, const double *from, int count) {
 }
 
 static options parse_options(int argc, char **argv) {
-    options o = {256, 32.0, 2016, 0, 1, GFMD_SOLVER_FIRE, ".", {0}, {0}, 0, 0};
+    options o = {256, 32.0, 2016, 0, 1, GFMD_SOLVER_AUTO, ".", {0}, {0}, 0, 0};
     set_widths(o.widths, &o.n_widths, ALL_WIDTHS, COUNT(ALL_WIDTHS));
     set_widths(o.adh_widths, &o.n_adh, ALL_ADH_WIDTHS, COUNT(ALL_ADH_WIDTHS));
     for (int i = 1; i < argc; ++i) {
@@ -73,8 +73,10 @@ static options parse_options(int argc, char **argv) {
         else if (!strcmp(argv[i], "--no-adhesion")) o.adhesion = 0;
         else if (!strcmp(argv[i], "--solver") && i + 1 < argc) {
             ++i;
-            if (!strcmp(argv[i], "fire")) o.solver = GFMD_SOLVER_FIRE;
+            if (!strcmp(argv[i], "auto")) o.solver = GFMD_SOLVER_AUTO;
+            else if (!strcmp(argv[i], "fire")) o.solver = GFMD_SOLVER_FIRE;
             else if (!strcmp(argv[i], "mass")) o.solver = GFMD_SOLVER_FIRE_MASS;
+            else if (!strcmp(argv[i], "cg")) o.solver = GFMD_SOLVER_CG;
             else usage(argv[0]);
         }
         else if (!strcmp(argv[i], "--widths") && i + 1 < argc) {

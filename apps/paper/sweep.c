@@ -29,7 +29,8 @@ gfmd_sim *make_body(const gfmd_sim *surface, double W, int32_t solver) {
 }
 
 void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, int32_t solver, sweep *out) {
-    gfmd_sim *s = make_body(surface, W, solver);
+    /* CG refuses adhesion: the adhesive sweeps then take the library's automatic choice */
+    gfmd_sim *s = make_body(surface, W, adhesive && solver == GFMD_SOLVER_CG ? GFMD_SOLVER_AUTO : solver);
     if (adhesive) CHECK(s, gfmd_set_adhesion(s, GAMMA0, RHO));
     out->W = W;
     out->n = N_LOADS;

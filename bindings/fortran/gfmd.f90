@@ -37,6 +37,7 @@ module gfmd
     procedure :: load => sim_load
     procedure :: set_threads => sim_set_threads
     procedure :: get_threads => sim_get_threads
+    procedure :: get_solver => sim_get_solver
     procedure :: set_fft_planner => sim_set_fft_planner
     procedure :: get_grid => sim_get_grid
     procedure :: set_modulus => sim_set_modulus
@@ -377,6 +378,20 @@ contains
     nthreads = int(n)
     call finish(self%ptr, st, 'get_threads', stat, errmsg)
   end subroutine sim_get_threads
+
+  !> The solver that steps now: the one set, or the one GFMD_SOLVER_AUTO chose.
+  subroutine sim_get_solver(self, solver, stat, errmsg)
+    class(gfmd_sim_t), intent(in) :: self
+    integer, intent(out) :: solver
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    integer(c_int32_t) :: k
+    integer(c_int32_t) :: st
+    k = 0
+    st = c_gfmd_get_solver(self%ptr, k)
+    solver = int(k)
+    call finish(self%ptr, st, 'get_solver', stat, errmsg)
+  end subroutine sim_get_solver
 
   !> GFMD_PLANNER_ESTIMATE, GFMD_PLANNER_MEASURE (default) or GFMD_PLANNER_PATIENT.
   subroutine sim_set_fft_planner(self, planner, stat, errmsg)

@@ -32,6 +32,8 @@ GAUSSIAN = _VALUES["GFMD_DIST_GAUSSIAN"]
 VERLET = _VALUES["GFMD_SOLVER_VERLET"]
 FIRE = _VALUES["GFMD_SOLVER_FIRE"]
 FIRE_MASS = _VALUES["GFMD_SOLVER_FIRE_MASS"]
+CG = _VALUES["GFMD_SOLVER_CG"]
+AUTO = _VALUES["GFMD_SOLVER_AUTO"]
 ESTIMATE = _VALUES["GFMD_PLANNER_ESTIMATE"]
 MEASURE = _VALUES["GFMD_PLANNER_MEASURE"]
 PATIENT = _VALUES["GFMD_PLANNER_PATIENT"]
@@ -295,6 +297,13 @@ class Simulation:
 
     def set_solver(self, solver):
         self._call("gfmd_set_solver", int(solver))
+
+    @property
+    def solver(self):
+        """The solver that steps now (GFMD_SOLVER_AUTO resolved)."""
+        k = ctypes.c_int32()
+        self._call("gfmd_get_solver", ctypes.byref(k))
+        return k.value
 
     def set_threads(self, n):
         self._call("gfmd_set_threads", int(n))

@@ -76,6 +76,7 @@ _PROTOTYPES = {
     "gfmd_set_solver": (_sim, _i32),
     "gfmd_set_threads": (_sim, _i32),
     "gfmd_get_threads": (_sim, c_int32_p),
+    "gfmd_get_solver": (_sim, c_int32_p),
     "gfmd_set_fft_planner": (_sim, _i32),
     "gfmd_import_wisdom": (_str,),
     "gfmd_export_wisdom": (_str,),

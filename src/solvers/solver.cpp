@@ -4,6 +4,7 @@
 #include <string>
 
 #include "../error.hpp"
+#include "cg.hpp"
 #include "fire.hpp"
 #include "fire_mass.hpp"
 #include "verlet.hpp"
@@ -23,6 +24,7 @@ std::unique_ptr<Solver> make_solver(int32_t kind, const FftGrid &grid, const Dyn
         case GFMD_SOLVER_VERLET: s = std::make_unique<Verlet>(); break;
         case GFMD_SOLVER_FIRE: s = std::make_unique<Fire>(); break;
         case GFMD_SOLVER_FIRE_MASS: s = std::make_unique<FireMass>(grid); break;
+        case GFMD_SOLVER_CG: s = std::make_unique<ConjugateGradient>(); break;
         default: fail(GFMD_ERR_BAD_ENUM, "unknown solver " + std::to_string(kind));
     }
     s->restart(d);

@@ -205,7 +205,7 @@ static void bad_enums_and_combinations(void **state) {
     gfmd_sim *s = *state;
     EXPECT(s, gfmd_set_green(s, 3, 1.0), GFMD_ERR_BAD_ENUM);
     EXPECT(s, gfmd_set_green(s, -1, 1.0), GFMD_ERR_BAD_ENUM);
-    EXPECT(s, gfmd_set_solver(s, 3), GFMD_ERR_BAD_ENUM);
+    EXPECT(s, gfmd_set_solver(s, GFMD_SOLVER_AUTO + 1), GFMD_ERR_BAD_ENUM);
     EXPECT(s, gfmd_set_solver(s, -1), GFMD_ERR_BAD_ENUM);
     EXPECT(s, gfmd_generate_selfaffine(s, 0.8, 12.0, 3.0, 1.0, 3, 2), GFMD_ERR_BAD_ENUM);
     /* the bonded layer needs Poisson's ratio first */
@@ -216,6 +216,21 @@ static void bad_enums_and_combinations(void **state) {
     TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_BONDED, 2.0));
     TS_OK(s, gfmd_relax(s, 0.0, 10000, NULL));
     EXPECT(s, gfmd_set_poisson(s, 0.7), GFMD_ERR_INVALID_ARG);
+    /* CG minimizes the quadratic (non-adhesive) problem: adhesion and CG refuse each other */
+    int32_t active = -1;
+    TS_OK(s, gfmd_set_solver(s, GFMD_SOLVER_CG));
+    EXPECT(s, gfmd_set_adhesion(s, 1e-3, 1.0), GFMD_ERR_STATE);
+    TS_OK(s, gfmd_get_solver(s, &active));
+    assert_int_equal(active, GFMD_SOLVER_CG);
+    TS_OK(s, gfmd_set_solver(s, GFMD_SOLVER_AUTO));
+    TS_OK(s, gfmd_set_adhesion(s, 1e-3, 1.0));
+    TS_OK(s, gfmd_get_solver(s, &active));
+    assert_int_equal(active, GFMD_SOLVER_FIRE); /* the automatic choice with adhesion */
+    EXPECT(s, gfmd_set_solver(s, GFMD_SOLVER_CG), GFMD_ERR_STATE);
+    TS_OK(s, gfmd_get_solver(s, &active));
+    assert_int_equal(active, GFMD_SOLVER_FIRE);
+    assert_int_equal(gfmd_get_solver(s, NULL), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_get_solver(NULL, &active), GFMD_ERR_NULL);
 }
 
 static void not_converged_keeps_progress(void **state) {

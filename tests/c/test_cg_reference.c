@@ -121,6 +121,21 @@ static void mass_weighted(void **state) {
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) compare_with_cg(&cases[k]);
 }
 
+/* The library's own CG (projected CG on the surface) against the reference, which iterates on the
+ * pressure: the half-space, fluid layers down to a thin sheet at low load, bonded layers. */
+static void conjugate_gradients(void **state) {
+    (void)state;
+    const rough_case cases[] = {
+        {128, GFMD_GREEN_HALFSPACE, 0.0, 0.0, 0.05, GFMD_SOLVER_CG},
+        {64, GFMD_GREEN_HALFSPACE, 0.0, 0.0, 0.5, GFMD_SOLVER_CG},
+        {64, GFMD_GREEN_LAYER_FLUID, 4.0, 0.0, 0.05, GFMD_SOLVER_CG},   /* W = 1 */
+        {64, GFMD_GREEN_LAYER_FLUID, 1.0, 0.0, 3e-4, GFMD_SOLVER_CG},   /* W = 0.25 */
+        {64, GFMD_GREEN_LAYER_BONDED, 4.0, 0.3, 0.05, GFMD_SOLVER_CG},
+        {64, GFMD_GREEN_LAYER_BONDED, 16.0, 0.5, 0.02, GFMD_SOLVER_CG},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) compare_with_cg(&cases[k]);
+}
+
 /* Relaxes one rough case with the given solver to 1e-8 and returns A/A0, mean gap and energies. */
 static void relax_with(int32_t solver, double width, double sigma0, double gamma0, double out[4]) {
     gfmd_sim *s = ts_create(64, 64, 64.0, 64.0);
@@ -141,16 +156,19 @@ static void relax_with(int32_t solver, double width, double sigma0, double gamma
 
 static void solvers_agree(void **state) {
     (void)state;
-    /* The seed paper's damped dynamics, FIRE and mass-weighted FIRE must reach the same
-     * equilibrium, with and without adhesion, on a layer and on a thin sheet. */
+    /* The seed paper's damped dynamics, FIRE, mass-weighted FIRE and (without adhesion) CG must
+     * reach the same equilibrium, with and without adhesion, on a layer and on a thin sheet. */
     const struct {
         double width, sigma0, gamma0;
     } cases[] = {{8.0, 0.05, 0.0}, {8.0, 0.05, 0.01}, {1.0, 3e-4, 0.0}, {1.0, 3e-4, 1e-4}};
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
-        double r[3][4];
-        const int32_t solvers[3] = {GFMD_SOLVER_FIRE, GFMD_SOLVER_FIRE_MASS, GFMD_SOLVER_VERLET};
-        /* the damped dynamics needs ~13 000 steps on the thin sheet: compared on the layer only */
-        const int nsolvers = cases[c].width < 4.0 ? 2 : 3;
+        double r[4][4];
+        const int adhesive = cases[c].gamma0 > 0.0;
+        /* CG (non-adhesive only) takes the place of the damped dynamics on the thin sheet, which
+         * needs ~13 000 steps there */
+        const int32_t solvers[4] = {GFMD_SOLVER_FIRE, GFMD_SOLVER_FIRE_MASS,
+                                    adhesive || cases[c].width >= 4.0 ? GFMD_SOLVER_VERLET : GFMD_SOLVER_CG, GFMD_SOLVER_CG};
+        const int nsolvers = adhesive ? (cases[c].width < 4.0 ? 2 : 3) : (cases[c].width < 4.0 ? 3 : 4);
         for (int k = 0; k < nsolvers; ++k)
             relax_with(solvers[k], cases[c].width, cases[c].sigma0, cases[c].gamma0, r[k]);
         for (int k = 1; k < nsolvers; ++k) {
@@ -172,6 +190,7 @@ int main(void) {
         cmocka_unit_test(fluid_layers),
         cmocka_unit_test(bonded_layer),
         cmocka_unit_test(mass_weighted),
+        cmocka_unit_test(conjugate_gradients),
         cmocka_unit_test(solvers_agree),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -130,7 +130,8 @@ static int32_t timestep_negative(gfmd_sim *s) { return gfmd_set_timestep(s, -1.0
 static int32_t timestep_nan(gfmd_sim *s) { return gfmd_set_timestep(s, NAN); }
 static int32_t damping_negative(gfmd_sim *s) { return gfmd_set_damping(s, -1.0); }
 static int32_t damping_inf(gfmd_sim *s) { return gfmd_set_damping(s, INFINITY); }
-static int32_t solver_unknown(gfmd_sim *s) { return gfmd_set_solver(s, 5); }
+static int32_t solver_unknown(gfmd_sim *s) { return gfmd_set_solver(s, GFMD_SOLVER_AUTO + 1); }
+static int32_t solver_cg_adhesive(gfmd_sim *s) { return gfmd_set_solver(s, GFMD_SOLVER_CG); }
 static int32_t threads_negative(gfmd_sim *s) { return gfmd_set_threads(s, -1); }
 static int32_t threads_too_many(gfmd_sim *s) { return gfmd_set_threads(s, 5000); }
 static int32_t planner_unknown(gfmd_sim *s) { return gfmd_set_fft_planner(s, 9); }
@@ -192,6 +193,7 @@ static const failing CALLS[] = {
     {"damping < 0", GFMD_ERR_INVALID_ARG, damping_negative},
     {"damping inf", GFMD_ERR_INVALID_ARG, damping_inf},
     {"unknown solver", GFMD_ERR_BAD_ENUM, solver_unknown},
+    {"CG on an adhesive body", GFMD_ERR_STATE, solver_cg_adhesive},
     {"threads < 0", GFMD_ERR_INVALID_ARG, threads_negative},
     {"threads > 4096", GFMD_ERR_INVALID_ARG, threads_too_many},
     {"unknown planner", GFMD_ERR_BAD_ENUM, planner_unknown},
