@@ -3,7 +3,7 @@
  * run, for half-space and layers on a fluid foundation.
  *
  *   gfmd_bench [--sizes 256,512,1024,2048] [--big] [--widths 0,0.5,1,4] [--threads N]
- *              [--cg-seconds S] [--no-cg] [--sigma0 S] [--solver fire|mass|verlet]
+ *              [--cg-seconds S] [--no-cg] [--no-alt] [--sigma0 S] [--solver auto|fire|mass|verlet|cg]
  *   gfmd_bench ... --bonded NU   the layers bonded to a rigid base (Poisson's ratio NU) instead of on a
  *                                fluid foundation, in both GFMD and the CG reference
  *   gfmd_bench --contention [--sizes 512,1024,2048]
@@ -16,7 +16,10 @@
  *
  * Problem: self-affine, H = 0.8, lambda_s = 4a, lambda_r = n a/8, rms gradient 1,
  * E* = 1, sigma0 = 0.05 (--sigma0); W = w/lambda_s, 0 = half-space.  The "fft" column is the
- * bare r2c + c2r pairs one step of the chosen solver needs (two for mass-weighted FIRE).  The converged A/A0 comes from an
+ * bare r2c + c2r pairs one step of the solver that ran needs (two for mass-weighted FIRE, one and a half
+ * for CG); "solver" is that solver (with the default --solver auto, the library's own choice), and
+ * "other" the time to 0.1 % of the library's other method for this body (FIRE where the choice was
+ * CG, CG where it was FIRE; --no-alt skips it), so that each row shows whether the choice was right.  The converged A/A0 comes from an
  * untimed GFMD relaxation to 1e-10.  Then, from the same start, GFMD (in chunks of 5 steps) and
  * CG are timed: the time after which A/A0 stays within 0.1 % of the converged value ("to 0.1 %",
  * the speed-up compares these), and GFMD also until its default tolerance. */
@@ -150,6 +153,39 @@ static void create_and_relax(int n, int threads, double *t_create, double *t_rel
     gfmd_sim_destroy(&s);
 }
 
+typedef struct {
+    int64_t steps, steps_acc;
+    double seconds, seconds_acc, peak_mb;
+    int32_t active;
+} gfmd_run;
+
+/* From flat to the default tolerance in chunks of 5 steps: the steps and seconds, and when A/A0
+ * settled within 0.1 % of area_conv.  s is restarted at the start (reset + pressure). */
+static gfmd_run timed_relax(gfmd_sim *s, int32_t solver, double sigma0, double area_conv) {
+    gfmd_run out = {0, -1, 0.0, -1.0, 0.0, -1};
+    int32_t st;
+    if ((st = gfmd_set_solver(s, solver)) != GFMD_OK) die(s, st, "solver");
+    gfmd_reset(s);
+    gfmd_set_pressure(s, sigma0); /* restarts the solver's adaptive state */
+    gfmd_get_solver(s, &out.active);
+    double area = 0, residual = 1, t0 = now();
+    while (residual > GFMD_DEFAULT_TOL && out.steps < 10000000) {
+        if ((st = gfmd_step(s, 5)) != GFMD_OK) die(s, st, "step");
+        out.steps += 5;
+        gfmd_get_contact_area(s, &area);
+        gfmd_get_residual(s, &residual);
+        if (fabs(area - area_conv) > 1e-3 * area_conv) {
+            out.seconds_acc = -1.0;
+            out.steps_acc = -1;
+        } else if (out.seconds_acc < 0.0) {
+            out.seconds_acc = now() - t0;
+            out.steps_acc = out.steps;
+        }
+    }
+    out.seconds = now() - t0;
+    return out;
+}
+
 static int contention_table(const double *sizes, int nsizes) {
     gfmd_sim *probe = NULL;
     int32_t def = 0;
@@ -180,10 +216,10 @@ static int contention_table(const double *sizes, int nsizes) {
 
 int main(int argc, char **argv) {
     double sizes[8] = {256, 512, 1024, 2048}, widths[8] = {0, 0.5, 1, 4};
-    int nsizes = 4, nwidths = 4, threads = 1, cg = 1, contention = 0;
+    int nsizes = 4, nwidths = 4, threads = 1, cg = 1, alt = 1, contention = 0;
     double cg_seconds = 120.0, sigma0 = 0.05, bonded_nu = NAN;
-    int32_t solver = GFMD_SOLVER_FIRE;
-    const char *solver_names[] = {"Verlet", "FIRE", "mass-weighted FIRE"};
+    int32_t solver = GFMD_SOLVER_AUTO;
+    const char *solver_names[] = {"Verlet", "FIRE", "mass", "CG", "auto"};
     for (int i = 1; i < argc; ++i) {
         if (!strcmp(argv[i], "--sizes") && i + 1 < argc) nsizes = parse_list(argv[++i], sizes, 7);
         else if (!strcmp(argv[i], "--big")) sizes[nsizes++] = 4096;
@@ -191,18 +227,21 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--threads") && i + 1 < argc) threads = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--cg-seconds") && i + 1 < argc) cg_seconds = atof(argv[++i]);
         else if (!strcmp(argv[i], "--no-cg")) cg = 0;
+        else if (!strcmp(argv[i], "--no-alt")) alt = 0;
         else if (!strcmp(argv[i], "--contention")) contention = 1;
         else if (!strcmp(argv[i], "--bonded") && i + 1 < argc) bonded_nu = atof(argv[++i]);
         else if (!strcmp(argv[i], "--sigma0") && i + 1 < argc) sigma0 = atof(argv[++i]);
         else if (!strcmp(argv[i], "--solver") && i + 1 < argc) {
             ++i;
             solver = !strcmp(argv[i], "mass") ? GFMD_SOLVER_FIRE_MASS : !strcmp(argv[i], "verlet") ? GFMD_SOLVER_VERLET
-                   : !strcmp(argv[i], "fire") ? GFMD_SOLVER_FIRE : -1;
+                   : !strcmp(argv[i], "fire") ? GFMD_SOLVER_FIRE : !strcmp(argv[i], "cg") ? GFMD_SOLVER_CG
+                   : !strcmp(argv[i], "auto") ? GFMD_SOLVER_AUTO : -1;
         } else
             solver = -1;
         if (solver < 0 || !(sigma0 > 0.0)) {
             fprintf(stderr, "usage: %s [--sizes 256,512,...] [--big] [--widths 0,0.5,1,4] [--threads N] "
-                            "[--cg-seconds S] [--no-cg] [--sigma0 S] [--solver fire|mass|verlet]\n", argv[0]);
+                            "[--cg-seconds S] [--no-cg] [--no-alt] [--sigma0 S] [--solver auto|fire|mass|verlet|cg] "
+                            "[--bonded NU] | --contention\n", argv[0]);
             return 2;
         }
     }
@@ -213,27 +252,26 @@ int main(int argc, char **argv) {
         return 2;
     }
     if (threads < 1) threads = 1;
-    /* FFT pairs per step: mass weighting transforms the projected force as well */
-    const int pairs = (solver == GFMD_SOLVER_FIRE_MASS) ? 2 : 1;
     printf("gfmd %s benchmark: H = 0.8, lambda_s = 4a, lambda_r = n a/8, g = 1, E* = 1, sigma0 = %g, "
-           "%d thread(s), FFTW_MEASURE, default tol %.0e, %s (%d FFT pair(s) per step)\n", gfmd_version(), sigma0,
-           threads, GFMD_DEFAULT_TOL, solver_names[solver], pairs);
+           "%d thread(s), FFTW_MEASURE, default tol %.0e, solver %s\n", gfmd_version(), sigma0,
+           threads, GFMD_DEFAULT_TOL, solver_names[solver]);
     if (layer == GFMD_GREEN_LAYER_BONDED)
         printf("layers (W > 0) bonded to a rigid base, nu = %g, w = 4 W a\n", bonded_nu);
     else
         printf("layers (W > 0) on a fluid foundation, w = 4 W a\n");
-    printf("%5s %5s | %6s %8s %9s %9s %6s | %8s | %6s %8s | %7s %8s | %8s | %7s %6s\n", "n", "W", "steps", "seconds",
-           "s/step", "fft", "ratio", "A/A0", "steps", "s", "CG its", "CG s", "speedup", "peak MB", "B/pt");
-    printf("%5s %5s | %-43s | %8s | %-15s | %-16s | %8s | %14s\n", "", "", "GFMD to the default tolerance",
-           "", "GFMD to 0.1 %", "CG to 0.1 %", "", "memory");
+    printf("%5s %5s %6s | %6s %8s %9s %9s %6s | %8s | %6s %8s | %8s | %7s %8s | %8s | %7s %6s\n", "n", "W", "solver",
+           "steps", "seconds", "s/step", "fft", "ratio", "A/A0", "steps", "s", "other s", "CG its", "CG s", "speedup",
+           "peak MB", "B/pt");
+    printf("%5s %5s %6s | %-43s | %8s | %-15s | %8s | %-16s | %8s | %14s\n", "", "", "", "GFMD to the default tolerance",
+           "", "GFMD to 0.1 %", "to 0.1 %", "reference CG to 0.1 %", "", "memory");
     for (int a = 0; a < nsizes; ++a) {
         const int n = (int)sizes[a];
-        const double l = n, t_fft = pairs * fft_pair_seconds(n, threads);
+        const double l = n, t_pair = fft_pair_seconds(n, threads);
         for (int b = 0; b < nwidths; ++b) {
             const double W = widths[b];
             gfmd_sim *s = NULL;
             int32_t st;
-            int64_t steps = 0, more = 0;
+            int64_t more = 0;
             const double base_kb = read_status_kb("VmRSS:");
             reset_peak();
             if ((st = gfmd_sim_create(n, n, l, l, &s)) != GFMD_OK) die(NULL, st, "create");
@@ -246,28 +284,21 @@ int main(int argc, char **argv) {
             if ((st = gfmd_set_solver(s, solver)) != GFMD_OK) die(s, st, "solver");
             if ((st = gfmd_set_pressure(s, sigma0)) != GFMD_OK) die(s, st, "pressure");
             /* the converged value, untimed, then the same start again */
-            double area_conv = 0, area = 0, residual = 1;
+            double area_conv = 0;
             if ((st = gfmd_relax(s, 1e-10, 10000000, &more)) != GFMD_OK) die(s, st, "relax to 1e-10");
             gfmd_get_contact_area(s, &area_conv);
-            gfmd_reset(s);
-            gfmd_set_pressure(s, sigma0); /* restarts FIRE's adaptive state */
-            double t0 = now(), t_acc = -1.0; /* time after which A/A0 stayed within 0.1 % */
-            int64_t steps_acc = -1;
-            while (residual > GFMD_DEFAULT_TOL && steps < 10000000) {
-                if ((st = gfmd_step(s, 5)) != GFMD_OK) die(s, st, "step");
-                steps += 5;
-                gfmd_get_contact_area(s, &area);
-                gfmd_get_residual(s, &residual);
-                if (fabs(area - area_conv) > 1e-3 * area_conv) {
-                    t_acc = -1.0;
-                    steps_acc = -1;
-                } else if (t_acc < 0.0) {
-                    t_acc = now() - t0;
-                    steps_acc = steps;
-                }
-            }
-            const double t_gfmd = now() - t0;
+            const gfmd_run g = timed_relax(s, solver, sigma0, area_conv);
             const double peak_mb = (read_status_kb("VmHWM:") - base_kb) / 1024.0;
+            const int64_t steps = g.steps, steps_acc = g.steps_acc;
+            const double t_gfmd = g.seconds, t_acc = g.seconds_acc;
+            /* FFT pairs per step: mass weighting transforms the projected force as well, CG its direction */
+            const double t_fft = t_pair * (g.active == GFMD_SOLVER_FIRE_MASS ? 2.0 : g.active == GFMD_SOLVER_CG ? 1.5 : 1.0);
+            char other[32] = "-";
+            if (alt && (g.active == GFMD_SOLVER_CG || g.active == GFMD_SOLVER_FIRE)) {
+                const gfmd_run o = timed_relax(s, g.active == GFMD_SOLVER_CG ? GFMD_SOLVER_FIRE : GFMD_SOLVER_CG, sigma0,
+                                               area_conv);
+                snprintf(other, sizeof other, "%s %.3g", solver_names[o.active], o.seconds_acc);
+            }
             double *h = NULL;
             cg_result r = {0, 0, 0, 0, 0, 0, -1, -1};
             if (cg) {
@@ -291,9 +322,9 @@ int main(int argc, char **argv) {
                 snprintf(cg_s, sizeof cg_s, ">%.3g", r.seconds);
                 snprintf(speed, sizeof speed, ">%.0fx", r.seconds / t_acc);
             }
-            printf("%5d %5.2g | %6lld %8.3f %9.2e %9.2e %6.2f | %8.5f | %6lld %8.3f | %7s %8s | %8s | %7.1f %6.1f\n",
-                   n, W, (long long)steps, t_gfmd, t_gfmd / (double)steps, t_fft, t_gfmd / (double)steps / t_fft,
-                   area_conv, (long long)steps_acc, t_acc, cg_its, cg_s, speed, peak_mb,
+            printf("%5d %5.2g %6s | %6lld %8.3f %9.2e %9.2e %6.2f | %8.5f | %6lld %8.3f | %8s | %7s %8s | %8s | %7.1f %6.1f\n",
+                   n, W, solver_names[g.active], (long long)steps, t_gfmd, t_gfmd / (double)steps, t_fft, t_gfmd / (double)steps / t_fft,
+                   area_conv, (long long)steps_acc, t_acc, other, cg_its, cg_s, speed, peak_mb,
                    peak_mb * 1048576.0 / ((double)n * (double)n));
             fflush(stdout);
         }

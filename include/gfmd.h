@@ -185,7 +185,8 @@ GFMD_API int32_t gfmd_set_pressure(gfmd_sim *s, double sigma0);
  * reaching the substrate stopped) and every step keeps it.  A smaller d presses harder.
  * GFMD_ERR_INVALID_ARG if d is not finite or below the substrate's mean height (a body with z >= h
  * cannot have a smaller mean).  gfmd_set_pressure() returns to pressure control.  Works with
- * GFMD_SOLVER_FIRE and GFMD_SOLVER_VERLET; GFMD_ERR_STATE with GFMD_SOLVER_FIRE_MASS (which stalls
+ * GFMD_SOLVER_AUTO, GFMD_SOLVER_FIRE, GFMD_SOLVER_CG (without adhesion) and GFMD_SOLVER_VERLET;
+ * GFMD_ERR_STATE with GFMD_SOLVER_FIRE_MASS (which stalls
  * with the mean held; gfmd_set_solver() refuses it under displacement control likewise).
  * Checkpoints keep the mode.
  */
@@ -224,8 +225,9 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
 
 /**
  * Method used by gfmd_step() and gfmd_relax(): GFMD_SOLVER_AUTO (the default: GFMD_SOLVER_CG for a
- * non-adhesive body (pressure or displacement control) whose grid points times stiffness ratio
- * k_max/k_min is at most 4e6 -- a bonded coating, a half-space up to about 128^2 -- otherwise
+ * non-adhesive body (pressure or displacement control) whose stiffest mode is the shortest wave
+ * (not an incompressible bonded layer) and whose grid points times stiffness ratio k_max/k_min is
+ * at most 1e7 -- a compressible bonded coating, a half-space up to 128^2 -- otherwise
  * GFMD_SOLVER_FIRE; re-chosen whenever the body, the adhesion or the load control changes; the
  * rule and its measurements are in docs/performance.md; gfmd_get_solver() tells the choice),
  * GFMD_SOLVER_CG (projected conjugate gradients on the surface: exact line search along each

@@ -274,18 +274,24 @@ void Simulation::set_damping(double eta) {
 
 // GFMD_SOLVER_AUTO's rule, from measurements (docs/performance.md, "Choosing the solver"): CG
 // needs fewer force evaluations than FIRE when the body's modes span a small range of stiffness
-// on a small grid (under either load control); each CG iteration costs about 1.4 FIRE steps, and CG's iterations grow faster
-// with the grid and with the stiffness ratio k_max/k_min than FIRE's steps.  Measured from flat
-// (self-affine, A/A0 ~ 0.1), CG was faster up to N k_max/k_min ~ 1.5e7 and slower beyond; in load
-// sweeps, where each load starts from the last equilibrium, CG lost its edge already at
-// N k_max/k_min = 1.2e7 (256^2 half-space).  The bound below keeps CG where it won both.
-constexpr double kAutoCgBound = 4e6;
+// on a small grid (under either load control); each CG iteration costs about 1.4 FIRE steps, and
+// CG's iterations grow faster with the grid and with the stiffness ratio k_max/k_min than FIRE's
+// steps.  Measured from flat (self-affine, A/A0 ~ 0.1; half-space and bonded layers nu = 0.3 at
+// 128^2-1024^2), CG was faster up to N k_max/k_min ~ 1e7 and slower beyond (in load sweeps, where
+// each load starts from the last equilibrium, the 256^2 half-space at 1.2e7 was 1.3x slower).
+// A body whose stiffest modes are long waves (an incompressible bonded layer: k(q) grows as q
+// falls) made CG 2-20x slower than FIRE at any size: CG only where the stiffest mode is the
+// shortest wave, as in a half-space.
+constexpr double kAutoCgBound = 1e7;
 
 int32_t Simulation::resolve_solver(int32_t requested) const {
     if (requested != GFMD_SOLVER_AUTO) return requested;
     const bool quadratic = !(params_.gamma0 > 0.0);
     const double spread = static_cast<double>(grid_.real_size()) * (body_.k_max / body_.k_min);
-    return (quadratic && spread <= kAutoCgBound) ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE;
+    const double qx = grid_.qx(grid_.nx() / 2), qy = grid_.qy(grid_.ny() / 2);
+    const double k_shortest_halfspace = 0.5 * params_.e_star * std::sqrt(qx * qx + qy * qy);
+    const bool stiffest_short = body_.k_max <= (1.0 + 1e-9) * k_shortest_halfspace;
+    return (quadratic && stiffest_short && spread <= kAutoCgBound) ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE;
 }
 
 void Simulation::follow_auto_choice() {

@@ -51,11 +51,13 @@ contains
     type(gfmd_sim_t) :: a, b
     type(c_ptr) :: p
     real(dp) :: hf(nx, ny), hc(nx * ny), h32(nx, ny), za(nx, ny), zb(nx, ny), dmean, pmean
-    integer :: threads, st
+    integer :: threads, st, solver
 
     call a%create(nx, ny, real(nx, dp), real(ny, dp), threads=1, planner=GFMD_PLANNER_ESTIMATE)
     call a%get_threads(threads)
     call check(threads == 1, 'create with threads = 1 keeps one thread')
+    call a%get_solver(solver)
+    call check(solver == GFMD_SOLVER_CG, 'the automatic choice on a small non-adhesive half-space is CG')
     call a%generate_selfaffine(0.8_dp, 16.0_dp, 4.0_dp, 1.0_dp, seed)
     call a%get_heights(hf)
     p = c_null_ptr
