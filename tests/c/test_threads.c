@@ -75,8 +75,8 @@ static void thread_count_does_not_change_the_equilibrium(void **state) {
     const struct {
         int32_t solver;
         int64_t n;
-    } runs[2] = {{GFMD_SOLVER_FIRE, 256}, {GFMD_SOLVER_FIRE_MASS, 128}};
-    for (int r = 0; r < 2; ++r) {
+    } runs[3] = {{GFMD_SOLVER_FIRE, 256}, {GFMD_SOLVER_FIRE_MASS, 128}, {GFMD_SOLVER_CG, 128}};
+    for (int r = 0; r < 3; ++r) {
         const int32_t solver = runs[r].solver;
         const int64_t n = runs[r].n;
         double area[2], gap[2];
