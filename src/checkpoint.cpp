@@ -1,16 +1,18 @@
 // Checkpoint and restart: a simulation's complete state in a portable, versioned binary file.
 //
-// Format version 3, every number little-endian whatever the machine:
+// Format version 4, every number little-endian whatever the machine:
 //   "GFMDCKPT"                      8 bytes, magic
-//   u32 version = 3, u32 flags = 0 (no flags are defined: others are refused)
+//   u32 version = 4, u32 flags = 0 (no flags are defined: others are refused)
 //   i64 nx, ny; f64 lx, ly
 //   the parameters in the order of GFMD_PARAMS_LIST (params.hpp): f64 e_star; i32 kind;
 //     f64 width, nu, sigma0, gamma0, rho, dt_user, eta_user; i32 solver; i32 control; f64 mean_z
 //   i32 threads (informative; not restored), planner
 //   u32 count, f64 solver_state[count]  (the solver's adaptive state: FIRE's dt, alpha, count)
+//   u32 k                               (grid-sized fields of the solver's state: CG's pressure)
 //   f64 h[nx*ny], z[nx*ny], v[nx*ny]    (x fastest)
+//   f64 field[k][nx*ny]
 //   u64 FNV-1a hash of every byte before it
-// Version 2 (read, not written) had no control and mean_z (pressure control).  Version 1 (read)
+// Version 3 (read, not written) had no k and no solver fields.  Version 2 (read, not written) had no control and mean_z (pressure control).  Version 1 (read)
 // also had f64 fire_dt, fire_alpha; i64 fire_positive in place of the solver state.  Readers refuse other magics, versions they do not know, unknown flags, a length
 // other than the header implies (before allocating anything), and hash mismatches.
 #include <cmath>
@@ -30,7 +32,8 @@ namespace gfmd {
 namespace {
 
 constexpr char kMagic[8] = {'G', 'F', 'M', 'D', 'C', 'K', 'P', 'T'};
-constexpr uint32_t kVersion = 3;
+constexpr uint32_t kVersion = 4;
+constexpr uint32_t kMaxSolverFields = 4;  // grid-sized fields of a solver's state; more is a corrupted file
 constexpr uint32_t kMaxSolverState = 64;  // numbers of a solver's state; more is a corrupted file
 
 struct File {
@@ -168,9 +171,12 @@ void Simulation::save(const char *path) const {
         const std::vector<double> state = solver_->state();
         w.u32(static_cast<uint32_t>(state.size()));
         for (double x : state) w.f64(x);
+        const std::vector<const RealBuffer *> solver_fields = solver_->grid_state();
+        w.u32(static_cast<uint32_t>(solver_fields.size()));
         w.array(fields_.h.data(), grid_.local_points());
         w.array(fields_.z.data(), grid_.local_points());
         w.array(fields_.v.data(), grid_.local_points());
+        for (const RealBuffer *f : solver_fields) w.array(f->data(), grid_.local_points());
         w.u64(w.hash());
         const bool flushed = std::fflush(file.f) == 0;
         std::FILE *f = std::exchange(file.f, nullptr);
@@ -225,9 +231,11 @@ std::unique_ptr<Simulation> Simulation::load(const char *path) {
         if (count > kMaxSolverState) fail(GFMD_ERR_FORMAT, "'" + p + "' holds an impossible solver state: corrupted");
         for (uint32_t i = 0; i < count; ++i) state.push_back(r.f64());
     }
+    const uint32_t solver_fields = (version >= 4) ? r.u32() : 0;
+    if (solver_fields > kMaxSolverFields) fail(GFMD_ERR_FORMAT, "'" + p + "' holds an impossible solver state: corrupted");
     // The length the header implies, checked before anything is allocated or planned: a small
     // or damaged file that claims a huge grid is refused at once.
-    const double fields_bytes = 3.0 * 8.0 * static_cast<double>(nx) * static_cast<double>(ny);
+    const double fields_bytes = (3.0 + solver_fields) * 8.0 * static_cast<double>(nx) * static_cast<double>(ny);
     const double expected = static_cast<double>(std::ftell(file.f)) + fields_bytes + 8.0;
     if (expected != static_cast<double>(file_size))
         fail(GFMD_ERR_FORMAT, "'" + p + "' has " + std::to_string(file_size) + " bytes; its header (" +
@@ -244,6 +252,11 @@ std::unique_ptr<Simulation> Simulation::load(const char *path) {
     r.array(fl.h.data(), n);
     r.array(fl.z.data(), n);
     r.array(fl.v.data(), n);
+    std::vector<RealBuffer> extra;
+    for (uint32_t k = 0; k < solver_fields; ++k) {
+        extra.emplace_back(static_cast<std::size_t>(n));
+        r.array(extra.back().data(), n);
+    }
     const uint64_t computed = r.hash();
     const uint64_t stored = r.u64();
     if (stored != computed) fail(GFMD_ERR_FORMAT, "'" + p + "' is corrupted: its checksum does not match");
@@ -274,6 +287,7 @@ std::unique_ptr<Simulation> Simulation::load(const char *path) {
         s->set_damping(params.eta_user);
         s->set_solver(params.solver);
         s->solver_->set_state(state);
+        s->solver_->set_grid_state(std::move(extra));
     } catch (const Error &e) {
         fail(GFMD_ERR_FORMAT, "'" + p + "' holds invalid parameters or solver state: " + e.what());
     }

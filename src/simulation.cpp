@@ -79,7 +79,13 @@ void Simulation::change(const char *what, Apply &&apply, Undo &&undo) {
     apply();
     refresh_forces();
     if (forces_.finite()) {
-        follow_auto_choice();
+        try {
+            follow_auto_choice();  // CG's fields may not fit (std::bad_alloc): then nothing changed
+        } catch (...) {
+            undo();
+            refresh_forces();
+            throw;
+        }
         solver_->restart(dynamics_);
         return;
     }
@@ -272,32 +278,27 @@ void Simulation::set_damping(double eta) {
     solver_->restart(dynamics_);
 }
 
-// GFMD_SOLVER_AUTO's rule, from measurements (docs/performance.md, "Choosing the solver"): CG
-// needs fewer force evaluations than FIRE when the body's modes span a small range of stiffness
-// on a small grid (under either load control); each CG iteration costs about 1.4 FIRE steps, and
-// CG's iterations grow faster with the grid and with the stiffness ratio k_max/k_min than FIRE's
-// steps.  Measured from flat (self-affine, A/A0 ~ 0.1; half-space and bonded layers nu = 0.3 at
-// 128^2-1024^2), CG was faster up to N k_max/k_min ~ 1e7 and slower beyond (in load sweeps, where
-// each load starts from the last equilibrium, the 256^2 half-space at 1.2e7 was 1.3x slower).
-// A body whose stiffest modes are long waves (an incompressible bonded layer: k(q) grows as q
-// falls) made CG 2-20x slower than FIRE at any size: CG only where the stiffest mode is the
-// shortest wave, as in a half-space.
-constexpr double kAutoCgBound = 1e7;
+// GFMD_SOLVER_AUTO's rule, from measurements (docs/performance.md, "Choosing the solver"): the
+// Polonsky-Keer CG works on the contact set with the compliance 1/k(q); its iterations grow with
+// the softness of the long waves against the short ones, S = k(q_max)/k_min (a half-space: 0.7 n;
+// a bonded coating: bounded, whatever the grid; a layer on a fluid foundation: huge), and mildly
+// with the grid.  An iteration costs about three FIRE steps.  Measured from flat (self-affine,
+// A/A0 ~ 0.1, 128^2-1024^2), CG was faster where S sqrt(N) < 4e4 and as fast or slower beyond
+// (ties: the 256^2 half-space, S sqrt(N) = 4.6e4; a bonded layer w = 32 at 1024^2, 5.9e4).
+constexpr double kAutoCgBound = 4e4;
 
 int32_t Simulation::resolve_solver(int32_t requested) const {
     if (requested != GFMD_SOLVER_AUTO) return requested;
-    const bool quadratic = !(params_.gamma0 > 0.0);
-    const double spread = static_cast<double>(grid_.real_size()) * (body_.k_max / body_.k_min);
-    const double qx = grid_.qx(grid_.nx() / 2), qy = grid_.qy(grid_.ny() / 2);
-    const double k_shortest_halfspace = 0.5 * params_.e_star * std::sqrt(qx * qx + qy * qy);
-    const bool stiffest_short = body_.k_max <= (1.0 + 1e-9) * k_shortest_halfspace;
-    return (quadratic && stiffest_short && spread <= kAutoCgBound) ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE;
+    // measured under pressure control only: displacement control keeps FIRE
+    const bool quadratic = !(params_.gamma0 > 0.0) && params_.control == kPressureControl;
+    const double cost = long_wave_softness(grid_, body_, params_.e_star) * std::sqrt(static_cast<double>(grid_.real_size()));
+    return (quadratic && cost <= kAutoCgBound) ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE;
 }
 
 void Simulation::follow_auto_choice() {
     const int32_t kind = resolve_solver(params_.solver);
     if (kind == active_solver_) return;
-    solver_ = make_solver(kind, grid_, dynamics_);  // CG or FIRE: nothing to allocate, cannot fail
+    solver_ = make_solver(kind, grid_, dynamics_);  // may throw std::bad_alloc (CG's 16 B/pt)
     active_solver_ = kind;
 }
 

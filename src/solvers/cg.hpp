@@ -1,26 +1,48 @@
-// Constrained conjugate gradients on the surface z: the elastic energy plus the load's work is a
-// quadratic function of z, minimized under z >= h.  For bodies whose modes are not too spread in
-// stiffness (a bonded coating, a small half-space) it needs far fewer force evaluations than FIRE.
+// Constrained conjugate gradients: the elastic energy plus the load's work is a quadratic
+// function of z, minimized under z >= h.  Under pressure control the iteration is Polonsky &
+// Keer's on the contact pressure (pk.hpp); under displacement control, where the load is an
+// outcome, projected CG on the surface z itself (below).  For bodies whose modes span a modest
+// range of stiffness (a coating, a small half-space) they need far fewer force evaluations than
+// FIRE.
 #ifndef GFMD_SRC_SOLVERS_CG_HPP
 #define GFMD_SRC_SOLVERS_CG_HPP
 
+#include "pk.hpp"
 #include "solver.hpp"
 
 namespace gfmd {
 
-class ConjugateGradient final : public Solver {
+// Projected CG on z with an exact line search; its direction lives in the velocity field.
+class SurfaceCg {
 public:
-    void restart(const Dynamics &) override { fresh_ = true; }
-    void advance(StepContext &c) override;
-    std::unique_ptr<Solver> clone() const override { return std::make_unique<ConjugateGradient>(*this); }
-    // The previous iteration's |r|^2 and whether the next direction starts afresh; the direction
-    // itself lives in the velocity field (a CG has no velocity), so checkpoints keep it.
-    std::vector<double> state() const override { return {prev_r2_, fresh_ ? 1.0 : 0.0}; }
-    void set_state(const std::vector<double> &s) override;
+    void restart() { fresh_ = true; }
+    void advance(StepContext &c);
+    std::vector<double> state() const { return {prev_r2_, fresh_ ? 1.0 : 0.0}; }
+    void set_state(const double *s);  // two numbers
 
 private:
     double prev_r2_ = 0.0;
     bool fresh_ = true;
+};
+
+class ConjugateGradient final : public Solver {
+public:
+    // 16 bytes per point: the contact pressure and its displacement.
+    explicit ConjugateGradient(const FftGrid &grid) : pressure_(grid) {}
+    void restart(const Dynamics &) override {
+        surface_.restart();
+        pressure_.restart();
+    }
+    void advance(StepContext &c) override;
+    std::unique_ptr<Solver> clone() const override { return std::make_unique<ConjugateGradient>(*this); }
+    std::vector<double> state() const override;
+    void set_state(const std::vector<double> &s) override;
+    std::vector<const RealBuffer *> grid_state() const override { return {&pressure_.pressure()}; }
+    void set_grid_state(std::vector<RealBuffer> &&fields) override;
+
+private:
+    SurfaceCg surface_;
+    PolonskyKeer pressure_;
 };
 
 }  // namespace gfmd

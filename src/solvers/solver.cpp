@@ -18,13 +18,17 @@ Dynamics dynamics_for(const Params &p, const Body &body) {
     return d;
 }
 
+void Solver::set_grid_state(std::vector<RealBuffer> &&fields) {
+    if (!fields.empty()) fail(GFMD_ERR_FORMAT, "grid-sized state for a solver that has none");
+}
+
 std::unique_ptr<Solver> make_solver(int32_t kind, const FftGrid &grid, const Dynamics &d) {
     std::unique_ptr<Solver> s;
     switch (kind) {  // one line per solver
         case GFMD_SOLVER_VERLET: s = std::make_unique<Verlet>(); break;
         case GFMD_SOLVER_FIRE: s = std::make_unique<Fire>(); break;
         case GFMD_SOLVER_FIRE_MASS: s = std::make_unique<FireMass>(grid); break;
-        case GFMD_SOLVER_CG: s = std::make_unique<ConjugateGradient>(); break;
+        case GFMD_SOLVER_CG: s = std::make_unique<ConjugateGradient>(grid); break;
         default: fail(GFMD_ERR_BAD_ENUM, "unknown solver " + std::to_string(kind));
     }
     s->restart(d);

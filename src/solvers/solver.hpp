@@ -50,6 +50,10 @@ public:
     // set_state() throws GFMD_ERR_FORMAT for values the solver cannot have.
     virtual std::vector<double> state() const = 0;
     virtual void set_state(const std::vector<double> &s) = 0;
+    // Grid-sized state beyond z and v that a checkpoint must keep (none for most solvers), and
+    // its restoration after set_state(); throws GFMD_ERR_FORMAT for fields it cannot have.
+    virtual std::vector<const RealBuffer *> grid_state() const { return {}; }
+    virtual void set_grid_state(std::vector<RealBuffer> &&fields);
 };
 
 // A new, restarted solver of a kind (GFMD_SOLVER_*).  Throws GFMD_ERR_BAD_ENUM for an unknown kind,

@@ -71,6 +71,35 @@ static long file_size(const char *path) {
     return n;
 }
 
+/* CG keeps its contact pressure as grid-sized state: a non-adhesive body (CG refuses adhesion) */
+static void cg_restart_is_bit_exact(void **state) {
+    (void)state;
+    gfmd_sim *a = ts_create(NX, NY, 40.0, 24.0), *b = NULL;
+    TS_OK(a, gfmd_generate_selfaffine(a, 0.8, 12.0, 3.0, 1.0, 21, GFMD_DIST_UNIFORM));
+    TS_OK(a, gfmd_set_poisson(a, 0.3));
+    TS_OK(a, gfmd_set_green(a, GFMD_GREEN_LAYER_BONDED, 2.0));
+    TS_OK(a, gfmd_set_solver(a, GFMD_SOLVER_CG));
+    TS_OK(a, gfmd_set_pressure(a, 0.03));
+    TS_OK(a, gfmd_step(a, 7));
+    TS_OK(a, gfmd_sim_save(a, PATH));
+    /* one field more than FIRE's file: the pressure; 7 numbers of state instead of 3 */
+    assert_int_equal(file_size(PATH), 8 + 8 + 32 + 9 * 8 + 3 * 4 + 8 + 4 + 7 * 8 + 4 + 4 * 8 * NX * NY + 8);
+    assert_int_equal(gfmd_sim_load(PATH, &b, NULL, 0), GFMD_OK);
+    int32_t active = -1;
+    TS_OK(b, gfmd_get_solver(b, &active));
+    assert_int_equal(active, GFMD_SOLVER_CG);
+    TS_OK(a, gfmd_step(a, 9));
+    TS_OK(b, gfmd_step(b, 9));
+    double za[NX * NY], zb[NX * NY];
+    TS_OK(a, gfmd_get_surface(a, za));
+    TS_OK(b, gfmd_get_surface(b, zb));
+    assert_memory_equal(za, zb, sizeof za);
+    gfmd_sim_destroy(&a);
+    gfmd_sim_destroy(&b);
+    remove(PATH);
+}
+
+
 static void rewrite(const char *path, long keep, long flip_at, const unsigned char *patch, size_t patch_len,
                     long patch_at) {
     FILE *f = fopen(path, "rb");
@@ -103,9 +132,9 @@ static void damaged_files_are_refused(void **state) {
     TS_OK(a, gfmd_sim_save(a, PATH));
     gfmd_sim_destroy(&a);
     const long n = file_size(PATH);
-    /* format 3: magic, version + flags, grid, 9 f64 + 3 i32 parameters, threads + planner, the
-     * solver state (count + FIRE's 3 numbers), three fields, hash */
-    assert_int_equal(n, 8 + 8 + 32 + 9 * 8 + 3 * 4 + 8 + 4 + 3 * 8 + 3 * 8 * NX * NY + 8);
+    /* format 4: magic, version + flags, grid, 9 f64 + 3 i32 parameters, threads + planner, the
+     * solver state (count + FIRE's 3 numbers), the count of solver fields (0), three fields, hash */
+    assert_int_equal(n, 8 + 8 + 32 + 9 * 8 + 3 * 4 + 8 + 4 + 3 * 8 + 4 + 3 * 8 * NX * NY + 8);
 
     const long cuts[] = {0, 5, 12, 100, n / 2, n - 1};
     for (int i = 0; i < 6; ++i) {
@@ -117,8 +146,8 @@ static void damaged_files_are_refused(void **state) {
         rewrite(PATH, -1, flips[i], NULL, 0, 0);
         expect_refused(GFMD_ERR_FORMAT, "corrupted");
     }
-    const unsigned char v4[4] = {4, 0, 0, 0};
-    rewrite(PATH, -1, -1, v4, 4, 8);
+    const unsigned char v5[4] = {5, 0, 0, 0};
+    rewrite(PATH, -1, -1, v5, 4, 8);
     expect_refused(GFMD_ERR_VERSION, "another version");
     const unsigned char junk[8] = {'P', 'K', 3, 4, 0, 0, 0, 0};
     rewrite(PATH, -1, -1, junk, 8, 0);
@@ -141,7 +170,7 @@ static void damaged_files_are_refused(void **state) {
 /* Layout of a format-3 file (see src/checkpoint.cpp): offsets of the flags, grid, the control
  * parameters format 3 added, the solver state; format 2 lacks the 12 bytes of the control. */
 enum { OFF_VERSION = 8, OFF_FLAGS = 12, OFF_NX = 16, OFF_CONTROL = 120, CONTROL_BYTES = 12, OFF_COUNT = 140,
-       OFF_STATE = 144, OFF_FIELDS = 168 };
+       OFF_STATE = 144, OFF_FIELDS = 172 };
 
 static unsigned char *read_all(const char *path, long *n) {
     *n = file_size(path);
@@ -164,18 +193,43 @@ static void write_rehashed(const char *path, unsigned char *buf, long n) {
     fclose(f);
 }
 
-/* Files of the earlier formats made from a format-3 one load and resume the run bit for bit:
- * format 2 (no control parameters: pressure control) and format 1 (also FIRE's dt, alpha as f64
+/* Files of the earlier formats made from a format-4 one load and resume the run bit for bit:
+ * format 3 (no count of solver fields: none), format 2 (no control parameters: pressure control) and format 1 (also FIRE's dt, alpha as f64
  * and its count as i64 in place of the solver state). */
 static void older_formats_resume(void **state) {
     (void)state;
-    for (int version = 1; version <= 2; ++version)
+    for (int version = 1; version <= 3; ++version)
         for (int32_t solver = GFMD_SOLVER_VERLET; solver <= GFMD_SOLVER_FIRE_MASS; ++solver) {
             gfmd_sim *a = make(solver), *b = NULL;
             TS_OK(a, gfmd_step(a, 37));
             TS_OK(a, gfmd_sim_save(a, PATH));
-            long n = 0;
-            unsigned char *v3 = read_all(PATH, &n);
+            long n4 = 0;
+            unsigned char *v4 = read_all(PATH, &n4);
+            /* format 3: without the count of solver fields (FIRE, Verlet: 3 or 0 numbers of state) */
+            const long k_at = OFF_STATE + 8 * (long)v4[OFF_COUNT];
+            assert_int_equal(v4[k_at], 0);
+            const long n = n4 - 4;
+            unsigned char *v3 = malloc((size_t)n);
+            memcpy(v3, v4, (size_t)k_at);
+            memcpy(v3 + k_at, v4 + k_at + 4, (size_t)(n4 - k_at - 4));
+            v3[OFF_VERSION] = 3;
+            free(v4);
+            if (version == 3) {
+                write_rehashed("older.gfmd", v3, n);
+                gfmd_sim *c = NULL;
+                char msg3[256] = "";
+                if (gfmd_sim_load("older.gfmd", &c, msg3, sizeof msg3) != GFMD_OK) fail_msg("format 3: %s", msg3);
+                TS_OK(a, gfmd_step(a, 50));
+                TS_OK(c, gfmd_step(c, 50));
+                double za[NX * NY], pa[NX * NY], zc[NX * NY], pc[NX * NY];
+                fields(a, za, pa);
+                fields(c, zc, pc);
+                assert_memory_equal(za, zc, sizeof za);
+                free(v3);
+                gfmd_sim_destroy(&a);
+                gfmd_sim_destroy(&c);
+                continue;
+            }
             /* format 2: without the control parameters */
             const long n2 = n - CONTROL_BYTES;
             unsigned char *old = malloc((size_t)n2);
@@ -234,7 +288,7 @@ static void forged_headers_are_refused(void **state) {
     const int64_t big = 4096;
     memcpy(buf + OFF_NX, &big, 8);
     memcpy(buf + OFF_NX + 8, &big, 8);
-    memmove(buf + OFF_FIELDS, buf + n - 8, 8); /* a 176-byte file: header and hash only */
+    memmove(buf + OFF_FIELDS, buf + n - 8, 8); /* a 180-byte file: header and hash only */
     write_rehashed("damaged.gfmd", buf, OFF_FIELDS + 8);
     gfmd_sim *s = NULL;
     char msg[256] = "";
@@ -285,6 +339,7 @@ int main(void) {
         cmocka_unit_test(restart_is_bit_exact),
         cmocka_unit_test(damaged_files_are_refused),
         cmocka_unit_test(older_formats_resume),
+        cmocka_unit_test(cg_restart_is_bit_exact),
         cmocka_unit_test(forged_headers_are_refused),
         cmocka_unit_test(failed_save_leaves_nothing),
     };

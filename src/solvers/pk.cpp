@@ -1,0 +1,205 @@
+#include "pk.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+
+#include "../error.hpp"
+
+namespace gfmd {
+
+PolonskyKeer::PolonskyKeer(const FftGrid &grid)
+    : p_(static_cast<std::size_t>(grid.local_points())), u_(static_cast<std::size_t>(grid.local_points())) {}
+
+PolonskyKeer::PolonskyKeer(const PolonskyKeer &o)
+    : p_(o.p_.size()), u_(o.u_.size()), fresh_(o.fresh_), u_valid_(false), conjugate_(o.conjugate_),
+      g_old_(o.g_old_), g_now_(o.g_now_), approach_(o.approach_), in_contact_(o.in_contact_) {
+    std::copy(o.p_.data(), o.p_.data() + o.p_.size(), p_.data());
+}
+
+std::vector<double> PolonskyKeer::state() const {
+    return {fresh_ ? 1.0 : 0.0, conjugate_ ? 1.0 : 0.0, g_old_, g_now_, approach_};
+}
+
+void PolonskyKeer::set_state(const std::vector<double> &s) {
+    const auto flag = [](double x) { return x == 0.0 || x == 1.0; };
+    if (s.size() != 5 || !flag(s[0]) || !flag(s[1]) || !(s[2] >= 0.0) || !std::isfinite(s[2]) || !(s[3] >= 0.0) ||
+        !std::isfinite(s[3]) || !std::isfinite(s[4]))
+        fail(GFMD_ERR_FORMAT, "invalid CG state");
+    fresh_ = s[0] != 0.0;
+    conjugate_ = s[1] != 0.0;
+    g_old_ = s[2];
+    g_now_ = s[3];
+    approach_ = s[4];
+    u_valid_ = false;
+}
+
+void PolonskyKeer::set_pressure(RealBuffer &&p) {
+    if (p.size() != p_.size()) fail(GFMD_ERR_FORMAT, "invalid CG pressure field");
+    for (std::size_t i = 0; i < p.size(); ++i)
+        if (!(p[i] >= 0.0) || !std::isfinite(p[i])) fail(GFMD_ERR_FORMAT, "invalid CG pressure field");
+    std::swap(p_, p);
+    u_valid_ = false;
+}
+
+namespace {
+
+// out = G * in: the periodic convolution with the compliance 1/k(q), the mean dropped.
+void convolve(const FftGrid &grid, const Body &body, std::complex<double> *work, const double *in, double *out) {
+    grid.forward(in, work);
+    const int64_t nxh = grid.nxh();
+    const double *stiff = body.stiffness.data();
+    const double s = 1.0 / static_cast<double>(grid.real_size());
+    for (int64_t r = 0; r < grid.local_mode_rows(); ++r)
+        for (int64_t kx = 0; kx < nxh; ++kx) {
+            const double k = stiff[r * nxh + kx];
+            work[r * nxh + kx] *= (k > 0.0) ? s / k : 0.0;
+        }
+    grid.backward(work, out);
+}
+
+}  // namespace
+
+// p *= scale, u = G p (from p alone, so that a clone or a checkpoint recomputes the same bits);
+// then the approach c that makes the mean gap over the contact set zero, and the squared gap over
+// it (the next direction's norm).
+void PolonskyKeer::displacement(const StepContext &c, double scale) {
+    const FftGrid &grid = c.grid;
+    double *__restrict p = p_.data(), *__restrict u = u_.data();
+    const double *__restrict h = c.fields.h.data();
+    if (scale != 1.0)
+        grid.for_points([&](int64_t i0, int64_t i1) {
+#pragma omp simd
+            for (int64_t i = i0; i < i1; ++i) p[i] *= scale;
+        });
+    convolve(grid, c.body, c.fields.work.data(), p, u);
+    const auto sums = grid.sum_points<2>([&](int64_t i0, int64_t i1, double *acc) {
+        double s = 0.0, n = 0.0;
+#pragma omp simd reduction(+ : s, n)
+        for (int64_t i = i0; i < i1; ++i) {
+            const bool in = p[i] > 0.0;
+            s += in ? h[i] - u[i] : 0.0;
+            n += in ? 1.0 : 0.0;
+        }
+        acc[0] += s;
+        acc[1] += n;
+    });
+    in_contact_ = sums[1];
+    approach_ = (sums[1] > 0.0) ? sums[0] / sums[1] : 0.0;
+    const double a = approach_;
+    g_now_ = grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
+        double g2 = 0.0;
+#pragma omp simd reduction(+ : g2)
+        for (int64_t i = i0; i < i1; ++i) {
+            const double g = u[i] + a - h[i];
+            g2 += (p[i] > 0.0) ? g * g : 0.0;
+        }
+        acc[0] += g2;
+    })[0];
+    u_valid_ = true;
+}
+
+// The contact pressures of the configuration (the wall's reaction -f where it holds the body),
+// scaled to the load, when the body touches at more than 2 sqrt(N) points (a relaxed state: a load
+// sweep continues from it); otherwise -- a flat start touches at one point, or along a line of a
+// one-dimensional substrate, where the gap over the contact set is uniform and gives the
+// iteration no direction -- the uniform load, Polonsky & Keer's own start.
+void PolonskyKeer::start(StepContext &c) {
+    const FftGrid &grid = c.grid;
+    const double sigma0 = c.params.sigma0;
+    double *__restrict p = p_.data();
+    const double *__restrict z = c.fields.z.data(), *__restrict h = c.fields.h.data(), *__restrict f = c.fields.f.data();
+    const double total = grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
+        double s = 0.0;
+#pragma omp simd reduction(+ : s)
+        for (int64_t i = i0; i < i1; ++i) {
+            const double pi = (z[i] <= h[i]) ? std::max(-f[i], 0.0) : 0.0;
+            p[i] = pi;
+            s += pi;
+        }
+        acc[0] += s;
+    })[0];
+    const double n = static_cast<double>(grid.real_size());
+    const bool uniform = static_cast<double>(c.forces.contacts) <= 2.0 * std::sqrt(n) || !(total > 0.0);
+    if (uniform) grid.for_points([&](int64_t i0, int64_t i1) { std::fill(p + i0, p + i1, sigma0); });
+    double *v = c.fields.v.data();
+    grid.for_points([&](int64_t i0, int64_t i1) { std::fill(v + i0, v + i1, 0.0); });
+    conjugate_ = false;
+    g_old_ = 0.0;
+    fresh_ = false;
+    displacement(c, uniform ? 1.0 : sigma0 * n / total);
+}
+
+void PolonskyKeer::advance(StepContext &c) {
+    const FftGrid &grid = c.grid;
+    if (!(c.params.sigma0 > 0.0)) return;  // no load, no contact pressure: nothing moves
+    if (fresh_)
+        start(c);
+    else if (!u_valid_)
+        displacement(c, 1.0);  // after a checkpoint or a clone: u = G p exactly as it was
+    double *__restrict p = p_.data(), *__restrict u = u_.data(), *__restrict t = c.fields.v.data();
+    double *__restrict r = c.fields.f.data();
+    const double *__restrict h = c.fields.h.data();
+    const double a = approach_;
+    // The direction on the contact set: the gap, conjugated to the last direction.
+    const double beta = (conjugate_ && g_old_ > 0.0) ? g_now_ / g_old_ : 0.0;
+    grid.for_points([&](int64_t i0, int64_t i1) {
+#pragma omp simd
+        for (int64_t i = i0; i < i1; ++i) t[i] = (p[i] > 0.0) ? (u[i] + a - h[i]) + beta * t[i] : 0.0;
+    });
+    g_old_ = g_now_;
+    // r = G t; the step tau along t minimizes the complementary energy with the approach free:
+    // tau = sum g t / sum (r - <r>) t over the contact set.
+    convolve(grid, c.body, c.fields.work.data(), t, r);
+    const auto sums = grid.sum_points<4>([&](int64_t i0, int64_t i1, double *acc) {
+        double sr = 0.0, st = 0.0, srt = 0.0, sgt = 0.0;
+#pragma omp simd reduction(+ : sr, st, srt, sgt)
+        for (int64_t i = i0; i < i1; ++i) {
+            const bool in = p[i] > 0.0;
+            sr += in ? r[i] : 0.0;
+            st += in ? t[i] : 0.0;
+            srt += in ? r[i] * t[i] : 0.0;
+            sgt += in ? (u[i] + a - h[i]) * t[i] : 0.0;
+        }
+        acc[0] += sr;
+        acc[1] += st;
+        acc[2] += srt;
+        acc[3] += sgt;
+    });
+    const double r_mean = (in_contact_ > 0.0) ? sums[0] / in_contact_ : 0.0;
+    const double den = sums[2] - r_mean * sums[1];
+    // Without a direction (the gap is already uniform over the contact set, e.g. a start that
+    // touches one symmetric line) tau would be 0 and no penetrating point could join: they then
+    // join with the stiffness of the shortest wave, the stiffest local response the grid has.
+    const double tau = (den > 0.0) ? sums[3] / den : (g_now_ == 0.0 ? c.body.k_max : 0.0);
+    // New pressures: down the direction on the contact set, clipped at zero; points out of
+    // contact that penetrate join it (and the next direction starts afresh).
+    const auto upd = grid.sum_points<2>([&](int64_t i0, int64_t i1, double *acc) {
+        double total = 0.0, joined = 0.0;
+#pragma omp simd reduction(+ : total, joined)
+        for (int64_t i = i0; i < i1; ++i) {
+            const double g = u[i] + a - h[i];
+            const bool in = p[i] > 0.0;
+            const bool join = !in && g < 0.0;
+            const double pn = in ? std::max(p[i] - tau * t[i], 0.0) : (join ? -tau * g : 0.0);
+            p[i] = pn;
+            total += pn;
+            joined += join ? 1.0 : 0.0;
+        }
+        acc[0] += total;
+        acc[1] += joined;
+    });
+    conjugate_ = !(upd[1] > 0.0);
+    const double n = static_cast<double>(grid.real_size());
+    displacement(c, (upd[0] > 0.0) ? c.params.sigma0 * n / upd[0] : 1.0);
+    // The surface of this pressure: on the substrate where it carries pressure (its gap there is
+    // zero but for the iteration's error), elsewhere z = max(h, u + c).
+    double *__restrict z = c.fields.z.data();
+    const double a_new = approach_;
+    grid.for_points([&](int64_t i0, int64_t i1) {
+#pragma omp simd
+        for (int64_t i = i0; i < i1; ++i) z[i] = (p[i] > 0.0) ? h[i] : std::max(h[i], u[i] + a_new);
+    });
+}
+
+}  // namespace gfmd
