@@ -225,15 +225,18 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
 
 /**
  * Method used by gfmd_step() and gfmd_relax(): GFMD_SOLVER_AUTO (the default: GFMD_SOLVER_CG for a
- * non-adhesive body (pressure or displacement control) whose stiffest mode is the shortest wave
- * (not an incompressible bonded layer) and whose grid points times stiffness ratio k_max/k_min is
- * at most 1e7 -- a compressible bonded coating, a half-space up to 128^2 -- otherwise
+ * non-adhesive body under pressure control whose long waves are not too soft,
+ * S sqrt(nx ny) <= 4e4 with S = k_halfspace(q_max)/k_min -- a bonded coating of any
+ * Poisson's ratio at most a few hundred spacings thick, a half-space up to about 200^2 -- otherwise
  * GFMD_SOLVER_FIRE; re-chosen whenever the body, the adhesion or the load control changes; the
  * rule and its measurements are in docs/performance.md; gfmd_get_solver() tells the choice),
- * GFMD_SOLVER_CG (projected conjugate gradients on the surface: exact line search along each
- * direction, one forward transform more per iteration than FIRE's step; for the non-adhesive
- * problem only -- GFMD_ERR_STATE with adhesion, and gfmd_set_adhesion() with gamma0 > 0 refuses
- * while it is chosen; one "step" of gfmd_step()/gfmd_relax() is one iteration),
+ * GFMD_SOLVER_CG (constrained conjugate gradients: under pressure control on a half-space or a
+ * bonded layer Polonsky & Keer's iteration on the contact pressure, about three FFT pairs an
+ * iteration; on a layer on a fluid foundation and under displacement control projected CG on the
+ * surface, about 1.5 pairs; 16 bytes per point more, GFMD_ERR_NOMEM and nothing changed if they
+ * cannot be had; for the non-adhesive problem only -- GFMD_ERR_STATE with adhesion, and
+ * gfmd_set_adhesion() with gamma0 > 0 refuses while it is chosen; one "step" of
+ * gfmd_step()/gfmd_relax() is one iteration; the same convergence test as the others),
  * GFMD_SOLVER_FIRE (adapts its step up to
  * the time step and needs no damping), GFMD_SOLVER_FIRE_MASS (FIRE with each Fourier mode's inertia
  * taken from its stiffness, floored at the stiffness of the current contact spacing; points the wall

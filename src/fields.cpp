@@ -33,11 +33,11 @@ std::size_t points(const FftGrid &grid) { return static_cast<std::size_t>(grid.l
 
 }  // namespace
 
-void check_memory(int64_t nx, int64_t ny) {
-    const double need = static_cast<double>(nx) * static_cast<double>(ny) * kPeakBytesPerPoint;
+void check_memory(int64_t nx, int64_t ny, double bytes_per_point) {
+    const double need = static_cast<double>(nx) * static_cast<double>(ny) * bytes_per_point;
     const double have = available_bytes();
     if ((have > 0.0 && need > have) || (have <= 0.0 && need > 1e14))
-        fail(GFMD_ERR_NOMEM, "a " + std::to_string(nx) + " x " + std::to_string(ny) + " grid needs about " +
+        fail(GFMD_ERR_NOMEM, "this " + std::to_string(nx) + " x " + std::to_string(ny) + " grid needs about " +
                                  std::to_string(static_cast<long long>(need / 1048576.0)) + " MiB; " +
                                  std::to_string(static_cast<long long>(have / 1048576.0)) + " MiB are available");
 }

@@ -14,9 +14,10 @@ namespace gfmd {
 // docs/performance.md).  The memory guard uses the upper end.
 constexpr double kPeakBytesPerPoint = 82.0;
 
-// Throws GFMD_ERR_NOMEM, before anything is allocated, if nx x ny points at kPeakBytesPerPoint do
-// not fit in the memory available now (MemAvailable; physical memory where it is unknown).
-void check_memory(int64_t nx, int64_t ny);
+// Throws GFMD_ERR_NOMEM, before anything is allocated, if nx x ny points at bytes_per_point (a
+// handle's peak, or what a solver adds to it) do not fit in the memory available now
+// (MemAvailable; physical memory where it is unknown).
+void check_memory(int64_t nx, int64_t ny, double bytes_per_point = kPeakBytesPerPoint);
 
 struct Fields {
     explicit Fields(const FftGrid &grid);

@@ -8,8 +8,14 @@
 
 namespace gfmd {
 
-PolonskyKeer::PolonskyKeer(const FftGrid &grid)
-    : p_(static_cast<std::size_t>(grid.local_points())), u_(static_cast<std::size_t>(grid.local_points())) {}
+namespace {
+std::size_t checked_points(const FftGrid &grid) {
+    check_memory(grid.nx(), grid.ny(), 16.0);  // the pressure and its displacement
+    return static_cast<std::size_t>(grid.local_points());
+}
+}  // namespace
+
+PolonskyKeer::PolonskyKeer(const FftGrid &grid) : p_(checked_points(grid)), u_(static_cast<std::size_t>(grid.local_points())) {}
 
 PolonskyKeer::PolonskyKeer(const PolonskyKeer &o)
     : p_(o.p_.size()), u_(o.u_.size()), fresh_(o.fresh_), u_valid_(false), conjugate_(o.conjugate_),
