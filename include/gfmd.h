@@ -224,11 +224,11 @@ GFMD_API int32_t gfmd_set_timestep(gfmd_sim *s, double dt);
 GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
 
 /**
- * Method used by gfmd_step() and gfmd_relax(): GFMD_SOLVER_AUTO (the default: GFMD_SOLVER_CG for a
- * non-adhesive body under pressure control whose long waves are not too soft,
- * S sqrt(nx ny) <= 4e4 with S = k_halfspace(q_max)/k_min -- a bonded coating of any
- * Poisson's ratio at most a few hundred spacings thick, a half-space up to about 200^2 -- otherwise
- * GFMD_SOLVER_FIRE; re-chosen whenever the body, the adhesion or the load control changes; the
+ * Method used by gfmd_step() and gfmd_relax(): GFMD_SOLVER_AUTO (the default: for a non-adhesive
+ * body under pressure control GFMD_SOLVER_CG on a half-space or bonded layer whose long waves are
+ * not too soft, S sqrt(nx ny) <= 4e4 with S = k_halfspace(q_max)/k_min -- a bonded coating of any
+ * Poisson's ratio, a half-space up to about 200^2 -- and on a layer on a fluid foundation where
+ * Persson's A/A0 at the load is >= 0.3; GFMD_SOLVER_FIRE otherwise; re-chosen whenever the body, the adhesion or the load control changes; the
  * rule and its measurements are in docs/performance.md; gfmd_get_solver() tells the choice),
  * GFMD_SOLVER_CG (constrained conjugate gradients: under pressure control on a half-space or a
  * bonded layer Polonsky & Keer's iteration on the contact pressure, about three FFT pairs an

@@ -233,6 +233,37 @@ static void bad_enums_and_combinations(void **state) {
     assert_int_equal(gfmd_get_solver(NULL, &active), GFMD_ERR_NULL);
 }
 
+/* The solver GFMD_SOLVER_AUTO chooses for a body and load (the rule of gfmd_set_solver()): */
+static int32_t chosen(int64_t n, int32_t kind, double width, double sigma0, double gamma0, int displacement) {
+    gfmd_sim *s = NULL;
+    assert_int_equal(gfmd_sim_create_ex(n, n, (double)n, (double)n, 1, GFMD_PLANNER_ESTIMATE, &s), GFMD_OK);
+    TS_OK(s, gfmd_generate_selfaffine(s, 0.8, (double)n / 8.0, 4.0, 1.0, 1, GFMD_DIST_UNIFORM));
+    TS_OK(s, gfmd_set_poisson(s, 0.3));
+    if (kind != GFMD_GREEN_HALFSPACE) TS_OK(s, gfmd_set_green(s, kind, width));
+    if (gamma0 > 0.0) TS_OK(s, gfmd_set_adhesion(s, gamma0, 1.0));
+    TS_OK(s, gfmd_set_pressure(s, sigma0));
+    if (displacement) TS_OK(s, gfmd_set_mean_displacement(s, 0.0));
+    int32_t solver = -1;
+    TS_OK(s, gfmd_get_solver(s, &solver));
+    gfmd_sim_destroy(&s);
+    return solver;
+}
+
+static void automatic_choice(void **state) {
+    (void)state;
+    /* half-space: S sqrt(N) = 0.7 n^2, CG up to 4e4 (n = 128: 1.2e4; n = 512: 1.9e5) */
+    assert_int_equal(chosen(128, GFMD_GREEN_HALFSPACE, 0.0, 0.05, 0.0, 0), GFMD_SOLVER_CG);
+    assert_int_equal(chosen(512, GFMD_GREEN_HALFSPACE, 0.0, 0.05, 0.0, 0), GFMD_SOLVER_FIRE);
+    /* a bonded coating, w = 8: S = 15, whatever the grid up to 2600^2 */
+    assert_int_equal(chosen(512, GFMD_GREEN_LAYER_BONDED, 8.0, 0.05, 0.0, 0), GFMD_SOLVER_CG);
+    /* a thin sheet on a fluid foundation: CG once Persson's A/A0 >= 0.3, FIRE at low load */
+    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.05, 0.0, 0), GFMD_SOLVER_CG);
+    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.002, 0.0, 0), GFMD_SOLVER_FIRE);
+    /* adhesion or displacement control: FIRE */
+    assert_int_equal(chosen(128, GFMD_GREEN_HALFSPACE, 0.0, 0.05, 1e-3, 0), GFMD_SOLVER_FIRE);
+    assert_int_equal(chosen(128, GFMD_GREEN_HALFSPACE, 0.0, 0.05, 0.0, 1), GFMD_SOLVER_FIRE);
+}
+
 static void not_converged_keeps_progress(void **state) {
     gfmd_sim *s = *state;
     TS_OK(s, gfmd_set_pressure(s, 0.2));
@@ -319,6 +350,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(null_handle),
         cmocka_unit_test(create_and_destroy),
+        cmocka_unit_test(automatic_choice),
         cmocka_unit_test_setup_teardown(null_outputs, setup, teardown),
         cmocka_unit_test_setup_teardown(bad_parameters, setup, teardown),
         cmocka_unit_test_setup_teardown(bad_enums_and_combinations, setup, teardown),
