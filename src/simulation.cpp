@@ -286,10 +286,12 @@ void Simulation::set_damping(double eta) {
 // A/A0 ~ 0.1, 128^2-1024^2), CG was faster where S sqrt(N) < 4e4 and as fast or slower beyond
 // (ties: the 256^2 half-space, S sqrt(N) = 4.6e4; a bonded layer w = 32 at 1024^2, 5.9e4).
 constexpr double kAutoCgBound = 4e4;
-// On a layer on a fluid foundation CG iterates on the surface; it needs fewer force evaluations
-// than FIRE once much of the surface is in contact: measured (W = 0.0625 ... 4, 256^2-1024^2) it
-// was faster wherever Persson's A/A0 at the load was >= 0.3 (0.12-0.88x FIRE's time) and slower
-// at 0.12 and below (up to 1.85x).
+// On a layer on a fluid foundation CG iterates on the surface; from a flat start it needs fewer
+// force evaluations than FIRE once much of the surface is in contact: measured (W = 0.0625 ... 4,
+// 256^2-1024^2) it was faster wherever Persson's A/A0 at the load was >= 0.3 (0.12-0.88x FIRE's
+// time) and slower at 0.12 and below (up to 1.85x).  Continuing from the equilibrium of a nearby
+// load (a sweep) FIRE was faster (the 256^2 study, W = 0.0625, A/A0 0.27 -> 0.39: FIRE 312 steps,
+// CG 678 iterations): CG only from a start that touches at most 2 sqrt(N) points.
 constexpr double kAutoCgFluidArea = 0.3;
 
 int32_t Simulation::resolve_solver(int32_t requested) const {
@@ -299,7 +301,8 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
     if (!quadratic) return GFMD_SOLVER_FIRE;
     if (params_.kind == GFMD_GREEN_LAYER_FLUID) {
         const double area = gfmd::persson_contact_area(gfmd::persson_variance(grid_, body_, fields_), params_.sigma0);
-        return (area >= kAutoCgFluidArea) ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE;
+        const bool fresh = static_cast<double>(forces_.contacts) <= 2.0 * std::sqrt(static_cast<double>(grid_.real_size()));
+        return (area >= kAutoCgFluidArea && fresh) ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE;
     }
     const double cost = long_wave_softness(grid_, body_, params_.e_star) * std::sqrt(static_cast<double>(grid_.real_size()));
     return (cost <= kAutoCgBound) ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE;
