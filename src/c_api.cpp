@@ -310,6 +310,25 @@ int32_t gfmd_restart_solver(gfmd_sim *s) {
     return guarded(s, [&](gfmd::Simulation &m) { m.restart_solver(); });
 }
 
+int32_t gfmd_relax_multilevel(gfmd_sim *s, double tol, int64_t max_steps, int32_t levels, int64_t *steps_taken,
+                              int64_t *coarse_steps) {
+    return guarded(s, [&](gfmd::Simulation &m) {
+        if (std::isnan(tol)) fail(GFMD_ERR_INVALID_ARG, "tol is NaN");
+        if (max_steps <= 0) fail(GFMD_ERR_INVALID_ARG, "max_steps must be > 0, got " + std::to_string(max_steps));
+        const double t = (tol > 0.0) ? tol : GFMD_DEFAULT_TOL;
+        int64_t taken = 0, below = 0;
+        const bool ok = m.relax_multilevel(t, max_steps, levels, taken, below);
+        if (steps_taken) *steps_taken = taken;
+        if (coarse_steps) *coarse_steps = below;
+        if (!ok) {
+            char buf[160];
+            std::snprintf(buf, sizeof buf, "not converged after %lld steps: residual %.3e > tol %.3e",
+                          static_cast<long long>(taken), m.forces().residual, t);
+            fail(GFMD_ERR_NOT_CONVERGED, buf);
+        }
+    });
+}
+
 int32_t gfmd_relax(gfmd_sim *s, double tol, int64_t max_steps, int64_t *steps_taken) {
     return guarded(s, [&](gfmd::Simulation &m) {
         if (std::isnan(tol)) fail(GFMD_ERR_INVALID_ARG, "tol is NaN");

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <cstdio>
 #include <string>
 #include <utility>
@@ -357,9 +358,10 @@ void Simulation::step(int64_t nsteps) {
     relax(-1.0, nsteps, taken);  // a residual is never below -1: exactly nsteps steps
 }
 
-bool Simulation::relax(double tol, int64_t max_steps, int64_t &steps_taken) {
-    undo_.save(fields_);
-    const std::vector<double> solver_state = solver_->state();
+bool Simulation::relax_from(double tol, int64_t max_steps, int64_t &steps_taken,
+                            const std::vector<double> *call_start) {
+    if (call_start == nullptr) undo_.save(fields_);
+    const std::vector<double> solver_state = call_start ? *call_start : solver_->state();
     StepContext c{grid_, params_, body_, dynamics_, forces_, fields_};
     steps_taken = 0;
     while (forces_.residual > tol) {
@@ -371,6 +373,99 @@ bool Simulation::relax(double tol, int64_t max_steps, int64_t &steps_taken) {
         if (!forces_.finite()) diverged(steps_taken, solver_state);
     }
     return true;
+}
+
+namespace {
+
+// Copies the modes two grids share from one half-spectrum to the other, scaled, and zeroes the
+// rest: the modes strictly below the smaller grid's Nyquist frequencies (its Nyquist lines have
+// no partner on the larger grid and are dropped).  Restriction (fine -> coarse) filters,
+// prolongation (coarse -> fine) interpolates by zero padding.
+void copy_shared_modes(const FftGrid &from, const std::complex<double> *in, const FftGrid &to,
+                       std::complex<double> *out, double scale) {
+    const int64_t nxs = std::min(from.nx(), to.nx()), nys = std::min(from.ny(), to.ny());
+    const int64_t fxh = from.nxh(), txh = to.nxh();
+    std::fill(out, out + to.complex_size(), std::complex<double>(0.0, 0.0));
+    for (int64_t k = -(nys - 1) / 2; k <= (nys - 1) / 2; ++k) {
+        if (2 * std::abs(k) == nys) continue;
+        const int64_t fy = (k < 0) ? from.ny() + k : k, ty = (k < 0) ? to.ny() + k : k;
+        for (int64_t kx = 0; 2 * kx < nxs; ++kx) out[ty * txh + kx] = scale * in[fy * fxh + kx];
+    }
+}
+
+}  // namespace
+
+std::unique_ptr<Simulation> Simulation::coarsened() {
+    auto c = std::make_unique<Simulation>(grid_.nx() / 2, grid_.ny() / 2, grid_.lx(), grid_.ly(), grid_.threads(),
+                                          GFMD_PLANNER_ESTIMATE);
+    c->params_ = params_;
+    c->body_ = make_body(c->grid_, params_.kind, params_.width, params_.e_star, params_.nu);
+    c->dynamics_ = dynamics_for(c->params_, c->body_);
+    const double to_coarse = 1.0 / static_cast<double>(grid_.real_size());
+    // h and z filtered to the coarse grid through their spectra (this grid's work array is scratch)
+    grid_.forward(fields_.h.data(), fields_.work.data());
+    copy_shared_modes(grid_, fields_.work.data(), c->grid_, c->fields_.work.data(), to_coarse);
+    c->grid_.backward(c->fields_.work.data(), c->fields_.h.data());
+    grid_.forward(fields_.z.data(), fields_.work.data());
+    copy_shared_modes(grid_, fields_.work.data(), c->grid_, c->fields_.work.data(), to_coarse);
+    c->grid_.backward(c->fields_.work.data(), c->fields_.z.data());
+    double *z = c->fields_.z.data(), *v = c->fields_.v.data();
+    const double *h = c->fields_.h.data();
+    c->grid_.for_points([&](int64_t i0, int64_t i1) {
+        for (int64_t i = i0; i < i1; ++i) {
+            z[i] = std::max(z[i], h[i]);
+            v[i] = 0.0;
+        }
+    });
+    c->apply_control();
+    c->active_solver_ = c->resolve_solver(params_.solver);
+    c->refresh_forces();
+    c->solver_ = make_solver(c->active_solver_, c->grid_, c->dynamics_);
+    return c;
+}
+
+bool Simulation::relax_multilevel(double tol, int64_t max_steps, int levels, int64_t &steps_taken,
+                                  int64_t &coarse_steps) {
+    if (levels < 1) fail(GFMD_ERR_INVALID_ARG, "levels must be >= 1, got " + std::to_string(levels));
+    const int64_t factor = int64_t{1} << std::min(levels - 1, 40);
+    if (levels > 41 || grid_.nx() % factor != 0 || grid_.ny() % factor != 0 || grid_.nx() / factor < kMinCoarse ||
+        grid_.ny() / factor < kMinCoarse)
+        fail(GFMD_ERR_INVALID_ARG, std::to_string(levels) + " levels need nx and ny divisible by " +
+                                       std::to_string(factor) + " with at least " + std::to_string(kMinCoarse) +
+                                       " points a side on the coarsest grid; the grid is " +
+                                       std::to_string(grid_.nx()) + " x " + std::to_string(grid_.ny()));
+    coarse_steps = 0;
+    if (levels == 1) return relax(tol, max_steps, steps_taken);
+    undo_.save(fields_);  // a failure below restores the state of the call's start
+    const std::vector<double> solver_state = solver_->state();
+    try {
+        auto c = coarsened();
+        int64_t own = 0, below = 0;
+        c->relax_multilevel(tol, max_steps, levels - 1, own, below);  // a start: used converged or not
+        coarse_steps = own + below;
+        // The coarse surface interpolated to this grid, kept on or above the substrate.
+        c->grid_.forward(c->fields_.z.data(), c->fields_.work.data());
+        copy_shared_modes(c->grid_, c->fields_.work.data(), grid_, fields_.work.data(),
+                          1.0 / static_cast<double>(c->grid_.real_size()));
+        grid_.backward(fields_.work.data(), fields_.z.data());
+    } catch (...) {
+        undo_.restore(fields_);
+        refresh_forces();
+        solver_->set_state(solver_state);
+        throw;
+    }
+    double *z = fields_.z.data(), *v = fields_.v.data();
+    const double *h = fields_.h.data();
+    grid_.for_points([&](int64_t i0, int64_t i1) {
+        for (int64_t i = i0; i < i1; ++i) {
+            z[i] = std::max(z[i], h[i]);
+            v[i] = 0.0;
+        }
+    });
+    apply_control();
+    refresh_forces();
+    solver_->restart(dynamics_);
+    return relax_from(tol, max_steps, steps_taken, &solver_state);
 }
 
 double Simulation::contact_area() const { return gfmd::contact_area(grid_, forces_); }

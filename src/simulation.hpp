@@ -63,7 +63,14 @@ public:
     // Error(GFMD_ERR_DIVERGED) after restoring the state of the call's start.
     void step(int64_t nsteps);
     // Returns true if converged; steps_taken receives the number of steps made.
-    bool relax(double tol, int64_t max_steps, int64_t &steps_taken);
+    bool relax(double tol, int64_t max_steps, int64_t &steps_taken) { return relax_from(tol, max_steps, steps_taken, nullptr); }
+    // The same, started from a coarser problem: the body relaxed on the grid coarsened levels - 1
+    // times by 2 (the substrate and the surface filtered to each grid), its surface interpolated
+    // to the next finer grid, down to this one.  steps_taken counts this grid's steps,
+    // coarse_steps those of the coarser grids.  Throws GFMD_ERR_INVALID_ARG for levels < 1 or
+    // grids that do not halve to at least kMinCoarse points a side.
+    bool relax_multilevel(double tol, int64_t max_steps, int levels, int64_t &steps_taken, int64_t &coarse_steps);
+    static constexpr int64_t kMinCoarse = 8;
 
     // Observables of the current configuration.
     const ForceState &forces() const { return forces_; }
@@ -80,6 +87,11 @@ public:
 
 private:
     void refresh_forces();  // forces_ of the current z
+    // relax(); with call_start, the caller saved the fields to restore on divergence in undo_ and
+    // passes the solver state that goes with them
+    bool relax_from(double tol, int64_t max_steps, int64_t &steps_taken, const std::vector<double> *call_start);
+    // This body on the grid coarsened by 2, substrate and surface filtered to it, at rest
+    std::unique_ptr<Simulation> coarsened();  // uses this grid's work array
     template <class Apply, class Undo>
     void change(const char *what, Apply &&apply, Undo &&undo);
     void change_body(const char *what, const Params &p);

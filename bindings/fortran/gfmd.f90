@@ -58,6 +58,7 @@ module gfmd
     procedure :: get_dynamics => sim_get_dynamics
     procedure :: step => sim_step
     procedure :: relax => sim_relax
+    procedure :: relax_multilevel => sim_relax_multilevel
     procedure :: get_residual => sim_get_residual
     procedure :: reset => sim_reset
     procedure :: restart_solver => sim_restart_solver
@@ -619,6 +620,30 @@ contains
     if (present(steps)) steps = int(taken)
     call finish(self%ptr, st, 'relax', stat, errmsg)
   end subroutine sim_relax
+
+  !> gfmd_relax_multilevel: relax from a start made on grids coarsened levels - 1 times by 2.
+  subroutine sim_relax_multilevel(self, levels, tol, max_steps, steps, coarse_steps, stat, errmsg)
+    class(gfmd_sim_t), intent(inout) :: self
+    integer, intent(in) :: levels
+    real(dp), intent(in), optional :: tol
+    integer, intent(in), optional :: max_steps
+    integer, intent(out), optional :: steps, coarse_steps
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    real(c_double) :: t
+    integer(c_int64_t) :: m, taken, below
+    integer(c_int32_t) :: st
+    t = 0.0_dp
+    if (present(tol)) t = tol
+    m = 1000000_c_int64_t
+    if (present(max_steps)) m = int(max_steps, c_int64_t)
+    taken = 0
+    below = 0
+    st = c_gfmd_relax_multilevel(self%ptr, t, m, int(levels, c_int32_t), taken, below)
+    if (present(steps)) steps = int(taken)
+    if (present(coarse_steps)) coarse_steps = int(below)
+    call finish(self%ptr, st, 'relax_multilevel', stat, errmsg)
+  end subroutine sim_relax_multilevel
 
   subroutine sim_get_residual(self, residual, stat, errmsg)
     class(gfmd_sim_t), intent(in) :: self

@@ -10,7 +10,8 @@ module gfmd_c_api
   public :: c_gfmd_set_heights, c_gfmd_get_heights, c_gfmd_generate_selfaffine
   public :: c_gfmd_set_mean_displacement, c_gfmd_get_mean_displacement, c_gfmd_get_mean_pressure
   public :: c_gfmd_set_pressure, c_gfmd_set_adhesion, c_gfmd_set_timestep, c_gfmd_set_damping
-  public :: c_gfmd_set_solver, c_gfmd_get_dynamics, c_gfmd_step, c_gfmd_relax, c_gfmd_get_residual
+  public :: c_gfmd_set_solver, c_gfmd_get_dynamics, c_gfmd_step, c_gfmd_relax, c_gfmd_get_residual, &
+    c_gfmd_relax_multilevel
   public :: c_gfmd_reset, c_gfmd_get_contact_area, c_gfmd_get_mean_gap, c_gfmd_get_energies
   public :: c_gfmd_get_gap, c_gfmd_get_surface, c_gfmd_get_pressure, c_strlen
   public :: c_gfmd_sim_save, c_gfmd_sim_load, c_gfmd_set_threads, c_gfmd_get_threads, &
@@ -224,6 +225,17 @@ module gfmd_c_api
     end function
 
     ! int32_t gfmd_relax(gfmd_sim *s, double tol, int64_t max_steps, int64_t *steps_taken);
+    function c_gfmd_relax_multilevel(s, tol, max_steps, levels, steps_taken, coarse_steps) &
+        bind(C, name="gfmd_relax_multilevel") result(r)
+      import :: c_ptr, c_int32_t, c_int64_t, c_double
+      type(c_ptr), value :: s
+      real(c_double), value :: tol
+      integer(c_int64_t), value :: max_steps
+      integer(c_int32_t), value :: levels
+      integer(c_int64_t), intent(out) :: steps_taken, coarse_steps
+      integer(c_int32_t) :: r
+    end function
+
     function c_gfmd_relax(s, tol, max_steps, steps_taken) bind(C, name="gfmd_relax") result(r)
       import :: c_ptr, c_int32_t, c_int64_t, c_double
       type(c_ptr), value :: s

@@ -333,6 +333,19 @@ class Simulation:
     def reset(self):
         self._call("gfmd_reset")
 
+    def relax_multilevel(self, levels, tol=0.0, max_steps=10_000_000):
+        """relax() from a start made on grids coarsened levels - 1 times by 2 (gfmd_relax_multilevel);
+        returns (steps on this grid, steps on the coarser grids).  Raises like relax()."""
+        taken, below = ctypes.c_int64(), ctypes.c_int64()
+        st = _c().gfmd_relax_multilevel(self._handle(), float(tol), int(max_steps), int(levels),
+                                         ctypes.byref(taken), ctypes.byref(below))
+        if st == _VALUES["GFMD_ERR_NOT_CONVERGED"]:
+            raise NotConverged(st, f"not converged after {taken.value} steps: residual {self.residual:.3e}",
+                               steps=taken.value)
+        if st != 0:
+            _raise(st, self.last_error())
+        return taken.value, below.value
+
     def relax(self, tol=0.0, max_steps=10_000_000, progress=False):
         """Step until the residual is <= tol (0: DEFAULT_TOL); returns the steps taken.
 

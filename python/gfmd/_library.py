@@ -84,6 +84,7 @@ _PROTOTYPES = {
     "gfmd_step": (_sim, _i64),
     "gfmd_restart_solver": (_sim,),
     "gfmd_relax": (_sim, _dbl, _i64, c_int64_p),
+    "gfmd_relax_multilevel": (_sim, _dbl, _i64, _i32, c_int64_p, c_int64_p),
     "gfmd_get_residual": (_sim, c_double_p),
     "gfmd_reset": (_sim,),
     "gfmd_get_contact_area": (_sim, c_double_p),

@@ -262,3 +262,21 @@ def test_solver_choice():
         assert s.solver == gfmd.CG
         s.relax()
         assert 0.0 < s.contact_area < 1.0
+
+
+def test_relax_multilevel():
+    """A start made on coarser grids ends where a flat start ends (gfmd_relax_multilevel)."""
+    results = []
+    for levels in (1, 3):
+        with gfmd.Simulation(64, 64, 64.0, 64.0, threads=1, planner=gfmd.ESTIMATE) as s:
+            s.generate_selfaffine(0.8, 16.0, 4.0, 1.0, seed=5)
+            s.set_green(gfmd.LAYER_FLUID, 2.0)
+            s.set_pressure(0.002)
+            steps, coarse = s.relax_multilevel(levels, tol=1e-10)
+            assert (coarse > 0) == (levels > 1)
+            results.append((s.contact_area, s.mean_gap))
+    assert results[0][0] == results[1][0]
+    assert abs(results[0][1] - results[1][1]) <= 1e-6 * results[0][1]
+    with gfmd.Simulation(48, 40, 48.0, 40.0, threads=1, planner=gfmd.ESTIMATE) as s:
+        with pytest.raises(gfmd.InvalidArgument):
+            s.relax_multilevel(5)

@@ -138,6 +138,8 @@ static int32_t planner_unknown(gfmd_sim *s) { return gfmd_set_fft_planner(s, 9);
 static int32_t step_negative(gfmd_sim *s) { return gfmd_step(s, -1); }
 static int32_t relax_nan_tol(gfmd_sim *s) { return gfmd_relax(s, NAN, 10, NULL); }
 static int32_t relax_no_steps(gfmd_sim *s) { return gfmd_relax(s, 0.0, 0, NULL); }
+static int32_t multilevel_no_levels(gfmd_sim *s) { return gfmd_relax_multilevel(s, 0.0, 10, 0, NULL, NULL); }
+static int32_t multilevel_too_deep(gfmd_sim *s) { return gfmd_relax_multilevel(s, 0.0, 10, 4, NULL, NULL); }
 static int32_t persson_negative(gfmd_sim *s) {
     double a = 0.0;
     return gfmd_persson_contact_area(s, -1.0, &a);
@@ -200,6 +202,8 @@ static const failing CALLS[] = {
     {"steps < 0", GFMD_ERR_INVALID_ARG, step_negative},
     {"relax tol NaN", GFMD_ERR_INVALID_ARG, relax_nan_tol},
     {"relax max_steps 0", GFMD_ERR_INVALID_ARG, relax_no_steps},
+    {"multilevel relax with 0 levels", GFMD_ERR_INVALID_ARG, multilevel_no_levels},
+    {"multilevel relax coarser than 8 points a side (32 x 24 / 8)", GFMD_ERR_INVALID_ARG, multilevel_too_deep},
     {"Persson at sigma0 < 0", GFMD_ERR_INVALID_ARG, persson_negative},
     {"Persson into NULL", GFMD_ERR_NULL, persson_null},
     {"save into a missing folder", GFMD_ERR_IO, save_nowhere},

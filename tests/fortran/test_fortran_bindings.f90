@@ -158,7 +158,7 @@ contains
     integer, parameter :: nx = 40, ny = 24
     real(dp), parameter :: pi = acos(-1.0_dp)
     type(gfmd_sim_t) :: sim
-    real(dp) :: h(nx, ny), gap(nx, ny)
+    real(dp) :: h(nx, ny), gap(nx, ny), gml(nx, ny)
     integer :: i, j
     do j = 1, ny
       do i = 1, nx
@@ -173,6 +173,13 @@ contains
     call check(maxval(abs(gap - spread(gap(:, 1), 2, ny))) < 1e-9_dp, 'gap constant along y (second index)')
     call check(maxval(gap(:, 1)) - minval(gap(:, 1)) > 0.1_dp, 'gap varies along x (first index)')
     call check(gap(1, 1) == 0.0_dp .and. gap(nx / 2 + 1, 1) > 0.0_dp, 'contact at the crest x = 0, open at the valley')
+    ! the same equilibrium from a start made on coarser grids
+    call sim%reset()
+    call sim%relax_multilevel(2, tol=1e-10_dp, steps=i, coarse_steps=j)
+    call sim%get_gap(gml)
+    call check(j > 0 .and. maxval(abs(gml - gap)) < 1e-8_dp, 'relax_multilevel ends where relax ends')
+    call sim%relax_multilevel(0, stat=i)
+    call check(i == GFMD_ERR_INVALID_ARG, 'relax_multilevel refuses 0 levels')
     call sim%destroy()
   end subroutine layout_non_square
 
