@@ -50,7 +50,7 @@ mkdir -p "$logs"
 # The unit tests that must run under valgrind (a missing one is a failure, not a skip), and any
 # other test_* the build made.
 required=(test_green test_sinusoid test_hertz test_selfaffine test_cg_reference test_adhesion test_api
-  test_layout test_checkpoint test_continuation test_failed_calls test_displacement test_threads test_theory
+  test_layout test_checkpoint test_continuation test_failed_calls test_displacement test_multilevel test_threads test_theory
   fortran/test_fortran_bindings)
 binaries=()
 for name in "${required[@]}"; do binaries+=("$root/build/tests/$name"); done
