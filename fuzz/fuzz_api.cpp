@@ -139,12 +139,23 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
             }
             case 7: st = gfmd_set_timestep(s, in.f64()); break;
             case 8: st = gfmd_set_damping(s, in.f64()); break;
-            case 9: st = gfmd_set_solver(s, static_cast<int32_t>(in.u8() % 4)); break;
+            case 9: {  // bytes >= 128 (added later): CG, AUTO and one unknown value
+                const int b = in.u8();
+                st = gfmd_set_solver(s, static_cast<int32_t>(b < 128 ? b % 4 : 3 + b % 3));
+                break;
+            }
             case 10: st = gfmd_step(s, static_cast<int64_t>(in.u8() % 40) - 2); break;
             case 11: {
                 int64_t taken = -1;
                 const double tol = in.f64();
-                st = gfmd_relax(s, tol, static_cast<int64_t>(in.u8() % 200) - 1, &taken);
+                const int b = in.u8();
+                if (b < 200) {
+                    st = gfmd_relax(s, tol, static_cast<int64_t>(b) - 1, &taken);
+                } else {  // bytes >= 200 (added later): the multilevel start, levels -1 ... 54
+                    int64_t coarse = -1;
+                    st = gfmd_relax_multilevel(s, tol, 50, static_cast<int32_t>(b) - 201, &taken, &coarse);
+                    if (st == GFMD_OK && (taken < 0 || coarse < 0)) finding();
+                }
                 break;
             }
             case 12: st = gfmd_reset(s); break;
