@@ -14,9 +14,16 @@ out="$root/build/paper"
 mkdir -p "$out"
 "$root/build/apps/paper/gfmd_paper" --out "$out" "$@" | tee "$out/study.log"
 gnuplot -e "dir='$out'" "$root/apps/paper/plot_paper.gp"
+# Beyond the paper (Fig. 8): the pull-off of the adhesive sheets under displacement control, on a
+# small grid (64^2: about 1.5 minutes; the thin sheets peel slowly)
+pull="$out/pulloff"
+mkdir -p "$pull"
+"$root/build/apps/paper/gfmd_paper" --n 64 --bandwidth 8 --pulloff --out "$pull" > "$pull/study.log"
+sed -n '/^Fig. 8/,/^$/p' "$pull/study.log"
+gnuplot -e "dir='$pull'" "$root/apps/paper/plot_paper.gp"
 # Pictures of the contact itself (the Python package on the library just built)
 GFMD_LIBRARY="$root/build/libgfmd.so" MPLBACKEND=Agg PYTHONDONTWRITEBYTECODE=1 /usr/bin/python3 \
   "$root/examples/python/contact_maps.py" --out "$out"
 echo
 echo "tables: $out/*.csv"
-echo "plots:  $(cd "$out" && ls fig*.png contact_maps.png | sed "s|^|$out/|" | tr '\n' ' ')"
+echo "plots:  $(cd "$out" && ls fig*.png contact_maps.png | sed "s|^|$out/|" | tr '\n' ' ') $pull/fig8.png"

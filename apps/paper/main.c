@@ -1,9 +1,11 @@
 /* The seed paper's study (Putignano, Dapp & Mueser, Biomimetics 1, 7 (2016)) with the library:
  * load sweeps of a half-space and of layers on a fluid foundation pressed onto one self-affine
- * substrate, the collapse factor c(W), the separation, and the adhesive energy ratio theta.
+ * substrate, the collapse factor c(W), the separation, and the adhesive energy ratio theta; with
+ * --pulloff also the pull-off stress of each adhesive sheet (pulloff.c, Fig. 8).
  *
  *   gfmd_paper [--n N] [--bandwidth R] [--full | --quick] [--out DIR] [--seed S] [--threads T]
- *              [--no-adhesion] [--widths 0,W1,W2,...] [--solver auto|fire|mass|cg]
+ *              [--no-adhesion] [--widths 0,W1,W2,...] [--adh-widths W1,...] [--pulloff]
+ *              [--solver auto|fire|mass|cg]
  *
  * Surface: H = 0.8, lambda_s = 4a, lambda_r = R lambda_s, cell L = N a (default N = 256, R = 32,
  * L = 2 lambda_r; --full: N = 2048, R = 64, L = 8 lambda_r as in the paper; --quick, the test's
@@ -44,7 +46,7 @@ void die(const gfmd_sim *s, int32_t st, const char *what) {
 }
 
 static void usage(const char *argv0) {
-    fprintf(stderr, "usage: %s [--n N] [--bandwidth R] [--full | --quick] [--out DIR] [--seed S] [--threads T] [--no-adhesion] [--widths 0,W1,...] [--solver auto|fire|mass|cg]\n",
+    fprintf(stderr, "usage: %s [--n N] [--bandwidth R] [--full | --quick] [--out DIR] [--seed S] [--threads T] [--no-adhesion] [--widths 0,W1,...] [--adh-widths W1,...] [--pulloff] [--solver auto|fire|mass|cg]\n",
             argv0);
     exit(2);
 }
@@ -55,7 +57,7 @@ static void set_widths(double *to, int *n, const double *from, int count) {
 }
 
 static options parse_options(int argc, char **argv) {
-    options o = {256, 32.0, 2016, 0, 1, GFMD_SOLVER_AUTO, ".", {0}, {0}, 0, 0};
+    options o = {256, 32.0, 2016, 0, 1, 0, GFMD_SOLVER_AUTO, ".", {0}, {0}, 0, 0};
     set_widths(o.widths, &o.n_widths, ALL_WIDTHS, COUNT(ALL_WIDTHS));
     set_widths(o.adh_widths, &o.n_adh, ALL_ADH_WIDTHS, COUNT(ALL_ADH_WIDTHS));
     for (int i = 1; i < argc; ++i) {
@@ -71,6 +73,14 @@ static options parse_options(int argc, char **argv) {
         else if (!strcmp(argv[i], "--seed") && i + 1 < argc) o.seed = strtoull(argv[++i], NULL, 10);
         else if (!strcmp(argv[i], "--threads") && i + 1 < argc) o.threads = strtol(argv[++i], NULL, 10);
         else if (!strcmp(argv[i], "--no-adhesion")) o.adhesion = 0;
+        else if (!strcmp(argv[i], "--pulloff")) o.pulloff = 1;
+        else if (!strcmp(argv[i], "--adh-widths") && i + 1 < argc) {
+            /* comma-separated W list of the adhesive sheets (Fig. 7, and the pull-off) */
+            int k = 0;
+            for (char *tok = strtok(argv[++i], ","); tok && k < MAX_BODIES; tok = strtok(NULL, ","))
+                o.adh_widths[k++] = strtod(tok, NULL);
+            o.n_adh = k;
+        }
         else if (!strcmp(argv[i], "--solver") && i + 1 < argc) {
             ++i;
             if (!strcmp(argv[i], "auto")) o.solver = GFMD_SOLVER_AUTO;
@@ -147,6 +157,12 @@ int main(int argc, char **argv) {
         for (int b = 0; b < o.n_adh; ++b) run_sweep(surface, o.adh_widths[b], 1, u_max, o.solver, &ad[b]);
         write_theta_tables(ad, &o);
         fit_theta(ad, &o, &f);
+        /* Fig. 8: the pull-off stress of the same sheets, beside theta */
+        if (o.pulloff) {
+            static pulloff po[MAX_BODIES];
+            for (int b = 0; b < o.n_adh; ++b) run_pulloff(surface, o.adh_widths[b], u_max, o.solver, &po[b]);
+            write_pulloff_table(po, o.n_adh, &o);
+        }
     }
 
     write_fits(&o, &f);

@@ -75,3 +75,25 @@ plot f7 using (at(0.05,1)):(at(0.05,5)) with linespoints pt 7 title "A/A_0 = 0.0
      f7 using (at(0.1,1)):(at(0.1,5)) with linespoints pt 5 title "A/A_0 = 0.1", \
      f7 using (at(0.2,1)):(at(0.2,5)) with linespoints pt 9 title "A/A_0 = 0.2", \
      [0.04:0.3] 400*x**3 with lines dt 2 lc "gray" title "slope 3"
+
+# Fig. 8 (when the study ran with --pulloff): the pull-off stress of the adhesive sheets against W,
+# beside theta at A/A0 = 0.1 (Fig. 7) on the right axis
+f8 = dir.'/fig8_pulloff.csv'
+if (system('test -f '.f8.' && echo 1') eq "1") {
+    set output dir.'/fig8.png'
+    set title "Pull-off under displacement control (gamma_0 = 5e-4 E* a, rho = a) and theta"
+    set logscale xy
+    set logscale y2
+    set xlabel "W = w / lambda_s"
+    set ylabel "|sigma_{pull-off}| / (gamma_0 / rho)"
+    set y2label "theta at A/A_0 = 0.1"
+    set ytics nomirror
+    set y2tics
+    set key inside right bottom
+    plot f8 using 1:(-column(3)) with linespoints pt 7 ps 1.2 title "pull-off stress", \
+         f7 using (at(0.1,1)):(at(0.1,5)) axes x1y2 with linespoints pt 5 dt 2 title "theta (A/A_0 = 0.1)"
+    unset y2tics
+    unset y2label
+    unset logscale y2
+    set ytics mirror
+}

@@ -32,6 +32,7 @@ typedef struct {
     unsigned long long seed;
     long threads;           /* 0 = the library's default */
     int adhesion;           /* run the adhesive sweeps of Fig. 7 */
+    int pulloff;            /* and the pull-off of each adhesive sheet (Fig. 8) */
     int32_t solver;         /* GFMD_SOLVER_* */
     const char *dir;        /* output folder */
     double widths[MAX_BODIES], adh_widths[MAX_BODIES]; /* W = w/lambda_s, 0 = half-space first */
@@ -57,6 +58,13 @@ typedef struct {
     double theta_common;             /* the common beta */
 } fits;
 
+typedef struct {
+    double W, pull_off, area_max, seconds; /* pull-off: the most tensile mean pressure on retraction */
+    double lift;                           /* how far above the start the retraction ended */
+    long long steps;
+    int points, detached;
+} pulloff;
+
 extern const double TARGETS[N_TARGETS]; /* contact areas of the theta fits */
 
 /* Failures end the program with the library's message (a study has nothing to recover). */
@@ -71,12 +79,15 @@ double now(void);
 /* sweep.c */
 gfmd_sim *make_body(const gfmd_sim *surface, double W, int32_t solver);
 void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, int32_t solver, sweep *out);
+/* pulloff.c */
+void run_pulloff(const gfmd_sim *surface, double W, double u_max, int32_t solver, pulloff *out);
 /* fits.c */
 void fit_kappa(const sweep *halfspace, fits *f);
 void fit_collapse(const sweep *sw, const options *o, fits *f);
 void fit_theta(const sweep *ad, const options *o, fits *f);
 double at_area(const sweep *c, double area, size_t field);
 /* tables.c */
+void write_pulloff_table(const pulloff *p, int n, const options *o);
 void write_load_tables(const sweep *sw, const options *o);
 void write_persson_curves(const gfmd_sim *surface, const sweep *sw, const options *o);
 void write_collapse_tables(const sweep *sw, const options *o, const fits *f);

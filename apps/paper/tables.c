@@ -125,3 +125,19 @@ void report_fits(const options *o, const fits *f) {
         printf("  theta, common exponent          : beta = %.3f (paper: +3)\n", f->theta_common);
     }
 }
+
+/* Fig. 8: the pull-off stress of each adhesive sheet, in E* and in units of the adhesive stress
+ * gamma0/rho. */
+void write_pulloff_table(const pulloff *p, int n, const options *o) {
+    FILE *f8 = open_csv(o->dir, "fig8_pulloff.csv",
+                        "W,pull_off_over_Estar,pull_off_over_gamma0_rho,max_area,detached,lift,steps,seconds");
+    printf("\nFig. 8: pull-off stress against W (gamma0 = %g, rho = %g)\n", GAMMA0, RHO);
+    printf("%8s %14s %14s %10s %9s %9s\n", "W", "sigma_po/E*", "/(gamma0/rho)", "max A/A0", "came off", "seconds");
+    for (int b = 0; b < n; ++b) {
+        fprintf(f8, "%g,%.8e,%.8e,%.6f,%d,%.4f,%lld,%.3f\n", p[b].W, p[b].pull_off, p[b].pull_off / (GAMMA0 / RHO),
+                p[b].area_max, p[b].detached, p[b].lift, p[b].steps, p[b].seconds);
+        printf("%8g %14.5e %14.5f %10.5f %9s %9.1f\n", p[b].W, p[b].pull_off, p[b].pull_off / (GAMMA0 / RHO),
+               p[b].area_max, p[b].detached ? "yes" : "no", p[b].seconds);
+    }
+    fclose(f8);
+}

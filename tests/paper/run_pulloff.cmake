@@ -1,0 +1,35 @@
+# Runs the study's pull-off stage (apps/paper/pulloff.c) small (64^2, two sheets) and checks its
+# table against force balance: under displacement control the mean pressure is carried by the
+# wall (compressive) and the adhesion (tensile, at most gamma0/rho per area: the elastic stress has
+# no mean), so a tensile pull-off stress lies in (0, gamma0/rho]; and every sheet must come off.
+file(REMOVE_RECURSE ${OUT})
+execute_process(COMMAND ${STUDY} --n 64 --bandwidth 8 --threads 1 --widths 0 --adh-widths 1,0.25 --pulloff
+                        --out ${OUT}
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+message("${out}${err}")
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "gfmd_paper --pulloff failed (${rc})")
+endif()
+file(STRINGS ${OUT}/fig8_pulloff.csv lines)
+list(GET lines 0 header)
+if(NOT header STREQUAL "W,pull_off_over_Estar,pull_off_over_gamma0_rho,max_area,detached,lift,steps,seconds")
+  message(FATAL_ERROR "fig8_pulloff.csv: header '${header}'")
+endif()
+list(LENGTH lines n)
+if(NOT n EQUAL 3)
+  message(FATAL_ERROR "fig8_pulloff.csv: ${n} lines, expected a header and 2 rows")
+endif()
+foreach(i 1 2)
+  list(GET lines ${i} row)
+  string(REPLACE "," ";" f "${row}")
+  list(GET f 2 ratio)
+  list(GET f 4 detached)
+  if(NOT detached EQUAL 1)
+    message(FATAL_ERROR "row ${i}: the sheet did not come off: ${row}")
+  endif()
+  # -1 <= ratio < 0 (CMake compares numbers as floating point with LESS/GREATER)
+  if(NOT ratio LESS 0 OR ratio LESS -1)
+    message(FATAL_ERROR "row ${i}: pull-off ${ratio} gamma0/rho outside [-1, 0): ${row}")
+  endif()
+endforeach()
+message("pull-off table: 2 sheets came off, tensile stresses within the adhesive bound")
