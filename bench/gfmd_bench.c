@@ -7,6 +7,11 @@
  *   gfmd_bench ... --bonded NU   the layers bonded to a rigid base (Poisson's ratio NU) instead of on a
  *                                fluid foundation, in both GFMD and the CG reference
  *   gfmd_bench --contention [--sizes 512,1024,2048]
+ *   gfmd_bench --loads 0.002,0.01,0.05,0.2 [--sizes 256] [--widths 0.25,1,4]
+ *                                FIRE against CG from flat at each load, layers on a fluid
+ *                                foundation, with Persson's A/A0 at the load and the default's choice
+ *   gfmd_bench --multilevel [--sizes 256] [--widths 0.0625,0.125] [--sigma0 S] [--solver fire|mass]
+ *                                gfmd_relax_multilevel with 1-4 levels from flat, to 1e-10
  *
  * --contention: threads on a shared machine.  For each size, a half-space (seed 1, sigma0 = 0.05)
  * is created (planning included) and relaxed from flat to the default tolerance with one thread
@@ -186,6 +191,86 @@ static gfmd_run timed_relax(gfmd_sim *s, int32_t solver, double sigma0, double a
     return out;
 }
 
+/* A body of the benchmark's problem on an n x n grid: half-space (W = 0) or a layer on a fluid
+ * foundation, w = 4 W a; FFTW_MEASURE plans, one thread. */
+static gfmd_sim *bench_body(int n, double W, double sigma0, int32_t solver) {
+    gfmd_sim *s = NULL;
+    int32_t st;
+    const double l = n;
+    if ((st = gfmd_sim_create_ex(n, n, l, l, 1, GFMD_PLANNER_MEASURE, &s)) != GFMD_OK) die(NULL, st, "create");
+    if ((st = gfmd_generate_selfaffine(s, 0.8, l / 8.0, 4.0, 1.0, 2016, GFMD_DIST_UNIFORM)) != GFMD_OK)
+        die(s, st, "substrate");
+    if (W > 0 && (st = gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, W * 4.0)) != GFMD_OK) die(s, st, "green");
+    if ((st = gfmd_set_pressure(s, sigma0)) != GFMD_OK) die(s, st, "pressure");
+    if ((st = gfmd_set_solver(s, solver)) != GFMD_OK) die(s, st, "solver");
+    return s;
+}
+
+/* --loads: FIRE and CG from flat to the default tolerance at each load. */
+static int loads_table(const double *sizes, int nsizes, const double *widths, int nwidths, const double *loads,
+                       int nloads) {
+    const char *names[] = {"Verlet", "FIRE", "mass", "CG", "auto"};
+    printf("gfmd %s: FIRE against CG from flat, layers on a fluid foundation (w = 4 W a), H = 0.8, lambda_s = 4a, "
+           "lambda_r = n a/8, seed 2016, one thread, default tolerance\n", gfmd_version());
+    printf("%5s %6s %8s | %8s %8s | %7s %8s | %7s %8s | %7s | %6s\n", "n", "W", "sigma0", "A/A0", "Persson", "FIRE",
+           "s", "CG its", "s", "CG/FIRE", "auto");
+    for (int a = 0; a < nsizes; ++a)
+        for (int b = 0; b < nwidths; ++b)
+            for (int c = 0; c < nloads; ++c) {
+                const int n = (int)sizes[a];
+                double secs[2], area = 0.0, persson = 0.0;
+                int64_t steps[2];
+                int32_t choice = -1;
+                for (int k = 0; k < 2; ++k) {
+                    gfmd_sim *s = bench_body(n, widths[b], loads[c], k ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE);
+                    const double t0 = now();
+                    int32_t st = gfmd_relax(s, 0.0, 10000000, &steps[k]);
+                    secs[k] = now() - t0;
+                    if (st != GFMD_OK) die(s, st, "relax");
+                    gfmd_get_contact_area(s, &area);
+                    gfmd_persson_contact_area(s, loads[c], &persson);
+                    if (k == 0) {
+                        gfmd_set_solver(s, GFMD_SOLVER_AUTO);
+                        gfmd_reset(s);
+                        gfmd_set_pressure(s, loads[c]); /* the choice from a flat start */
+                        gfmd_get_solver(s, &choice);
+                    }
+                    gfmd_sim_destroy(&s);
+                }
+                printf("%5d %6g %8g | %8.3f %8.3f | %7lld %8.3f | %7lld %8.3f | %7.2f | %6s\n", n, widths[b], loads[c],
+                       area, persson, (long long)steps[0], secs[0], (long long)steps[1], secs[1], secs[1] / secs[0],
+                       choice >= 0 && choice <= 4 ? names[choice] : "?");
+                fflush(stdout);
+            }
+    return 0;
+}
+
+/* --multilevel: gfmd_relax_multilevel with 1 ... 4 levels from flat, to 1e-10. */
+static int multilevel_table(const double *sizes, int nsizes, const double *widths, int nwidths, double sigma0,
+                            int32_t solver) {
+    printf("gfmd %s: multilevel start, layers on a fluid foundation (w = 4 W a), sigma0 = %g, H = 0.8, lambda_s = 4a, "
+           "lambda_r = n a/8, seed 2016, one thread, tol 1e-10, solver %d\n", gfmd_version(), sigma0, (int)solver);
+    printf("%5s %6s | %8s | %6s %7s %8s | %s\n", "n", "W", "A/A0", "levels", "steps", "coarse", "seconds");
+    for (int a = 0; a < nsizes; ++a)
+        for (int b = 0; b < nwidths; ++b)
+            for (int levels = 1; levels <= 4; ++levels) {
+                const int n = (int)sizes[a];
+                gfmd_sim *s = bench_body(n, widths[b], sigma0, solver);
+                int64_t steps = 0, coarse = 0;
+                double area = 0.0;
+                const double t0 = now();
+                int32_t st = gfmd_relax_multilevel(s, 1e-10, 10000000, levels, &steps, &coarse);
+                const double t = now() - t0;
+                if (st != GFMD_OK) die(s, st, "relax_multilevel");
+                gfmd_get_contact_area(s, &area);
+                printf("%5d %6g | %8.5f | %6d %7lld %8lld | %.3f\n", n, widths[b], area, levels, (long long)steps,
+                       (long long)coarse, t);
+                fflush(stdout);
+                gfmd_sim_destroy(&s);
+            }
+    return 0;
+}
+
 static int contention_table(const double *sizes, int nsizes) {
     gfmd_sim *probe = NULL;
     int32_t def = 0;
@@ -216,7 +301,8 @@ static int contention_table(const double *sizes, int nsizes) {
 
 int main(int argc, char **argv) {
     double sizes[8] = {256, 512, 1024, 2048}, widths[8] = {0, 0.5, 1, 4};
-    int nsizes = 4, nwidths = 4, threads = 1, cg = 1, alt = 1, contention = 0;
+    int nsizes = 4, nwidths = 4, threads = 1, cg = 1, alt = 1, contention = 0, multilevel = 0, nloads = 0;
+    double loads[8];
     double cg_seconds = 120.0, sigma0 = 0.05, bonded_nu = NAN;
     int32_t solver = GFMD_SOLVER_AUTO;
     const char *solver_names[] = {"Verlet", "FIRE", "mass", "CG", "auto"};
@@ -229,6 +315,8 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--no-cg")) cg = 0;
         else if (!strcmp(argv[i], "--no-alt")) alt = 0;
         else if (!strcmp(argv[i], "--contention")) contention = 1;
+        else if (!strcmp(argv[i], "--loads") && i + 1 < argc) nloads = parse_list(argv[++i], loads, 8);
+        else if (!strcmp(argv[i], "--multilevel")) multilevel = 1;
         else if (!strcmp(argv[i], "--bonded") && i + 1 < argc) bonded_nu = atof(argv[++i]);
         else if (!strcmp(argv[i], "--sigma0") && i + 1 < argc) sigma0 = atof(argv[++i]);
         else if (!strcmp(argv[i], "--solver") && i + 1 < argc) {
@@ -246,6 +334,8 @@ int main(int argc, char **argv) {
         }
     }
     if (contention) return contention_table(sizes, nsizes);
+    if (nloads > 0) return loads_table(sizes, nsizes, widths, nwidths, loads, nloads);
+    if (multilevel) return multilevel_table(sizes, nsizes, widths, nwidths, sigma0, solver);
     const int32_t layer = isnan(bonded_nu) ? GFMD_GREEN_LAYER_FLUID : GFMD_GREEN_LAYER_BONDED;
     if (layer == GFMD_GREEN_LAYER_BONDED && !(bonded_nu > -1.0 && bonded_nu <= 0.5)) {
         fprintf(stderr, "gfmd_bench: --bonded needs a Poisson ratio in (-1, 0.5]\n");
