@@ -321,8 +321,8 @@ GFMD_API int32_t gfmd_relax(gfmd_sim *s, double tol, int64_t max_steps, int64_t 
  * setting gives on that grid), each coarse surface interpolated to the next finer grid (zero-padded
  * spectrum, then lifted onto the substrate where it would penetrate), and relaxed there in turn, to
  * the same tol and at most @p max_steps steps per grid; then this grid as gfmd_relax() does.  The
- * long waves relax where steps are cheap; measured, that saves 20-30 % of a thin sheet's steps
- * from flat with FIRE and little with mass-weighted FIRE (docs/performance.md): the steps a soft
+ * long waves relax where steps are cheap; measured, that saves 14-24 % of a thin sheet's time
+ * from flat with FIRE and 3 % with mass-weighted FIRE (docs/performance.md): the steps a soft
  * sheet needs are mostly those of its contact-scale modes.  levels = 1 is gfmd_relax().  @p steps_taken (may be NULL) receives this grid's steps,
  * @p coarse_steps (may be NULL) those of all coarser grids together.  GFMD_ERR_INVALID_ARG, nothing
  * changed, unless levels >= 1 and nx, ny are divisible by 2^(levels-1) with at least 8 points a

@@ -289,10 +289,11 @@ void Simulation::set_damping(double eta) {
 constexpr double kAutoCgBound = 4e4;
 // On a layer on a fluid foundation CG iterates on the surface; from a flat start it needs fewer
 // force evaluations than FIRE once much of the surface is in contact: measured (W = 0.0625 ... 4,
-// 256^2-1024^2) it was faster wherever Persson's A/A0 at the load was >= 0.3 (0.12-0.88x FIRE's
-// time) and slower at 0.12 and below (up to 1.85x).  Continuing from the equilibrium of a nearby
-// load (a sweep) FIRE was faster (the 256^2 study, W = 0.0625, A/A0 0.27 -> 0.39: FIRE 312 steps,
-// CG 678 iterations): CG only from a start that touches at most 2 sqrt(N) points.
+// 256^2-1024^2; gfmd_bench --loads) it was faster wherever Persson's A/A0 at the load was >= 0.3
+// (0.02-0.78x FIRE's time) and mostly slower at 0.12 and below (up to 2.2x).  Continuing from
+// the equilibrium of a nearby load (a sweep) FIRE was faster (the 256^2 study, W = 0.0625, A/A0
+// 0.27 -> 0.39: FIRE 312 steps, CG 678 iterations): CG only from a start that touches at most
+// 2 sqrt(N) points.
 constexpr double kAutoCgFluidArea = 0.3;
 
 int32_t Simulation::resolve_solver(int32_t requested) const {
