@@ -71,6 +71,24 @@ void need(const T *p, const char *name) {
     if (p == nullptr) fail(GFMD_ERR_NULL, std::string("argument '") + name + "' is NULL");
 }
 
+// A relaxation as gfmd_relax() documents it: tol <= 0 is the default, max_steps > 0; run(t)
+// relaxes to t and returns whether it converged; *steps_taken gets the steps it reports.
+template <class Run>
+void relax_call(gfmd::Simulation &m, double tol, int64_t max_steps, int64_t *steps_taken, Run &&run) {
+    if (std::isnan(tol)) fail(GFMD_ERR_INVALID_ARG, "tol is NaN");
+    if (max_steps <= 0) fail(GFMD_ERR_INVALID_ARG, "max_steps must be > 0, got " + std::to_string(max_steps));
+    const double t = (tol > 0.0) ? tol : GFMD_DEFAULT_TOL;
+    int64_t taken = 0;
+    const bool ok = run(t, taken);
+    if (steps_taken) *steps_taken = taken;
+    if (!ok) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "not converged after %lld steps: residual %.3e > tol %.3e",
+                      static_cast<long long>(taken), m.forces().residual, t);
+        fail(GFMD_ERR_NOT_CONVERGED, buf);
+    }
+}
+
 }  // namespace
 
 extern "C" {
@@ -313,36 +331,19 @@ int32_t gfmd_restart_solver(gfmd_sim *s) {
 int32_t gfmd_relax_multilevel(gfmd_sim *s, double tol, int64_t max_steps, int32_t levels, int64_t *steps_taken,
                               int64_t *coarse_steps) {
     return guarded(s, [&](gfmd::Simulation &m) {
-        if (std::isnan(tol)) fail(GFMD_ERR_INVALID_ARG, "tol is NaN");
-        if (max_steps <= 0) fail(GFMD_ERR_INVALID_ARG, "max_steps must be > 0, got " + std::to_string(max_steps));
-        const double t = (tol > 0.0) ? tol : GFMD_DEFAULT_TOL;
-        int64_t taken = 0, below = 0;
-        const bool ok = m.relax_multilevel(t, max_steps, levels, taken, below);
-        if (steps_taken) *steps_taken = taken;
-        if (coarse_steps) *coarse_steps = below;
-        if (!ok) {
-            char buf[160];
-            std::snprintf(buf, sizeof buf, "not converged after %lld steps: residual %.3e > tol %.3e",
-                          static_cast<long long>(taken), m.forces().residual, t);
-            fail(GFMD_ERR_NOT_CONVERGED, buf);
-        }
+        relax_call(m, tol, max_steps, steps_taken, [&](double t, int64_t &taken) {
+            int64_t below = 0;
+            const bool ok = m.relax_multilevel(t, max_steps, levels, taken, below);
+            if (coarse_steps) *coarse_steps = below;
+            return ok;
+        });
     });
 }
 
 int32_t gfmd_relax(gfmd_sim *s, double tol, int64_t max_steps, int64_t *steps_taken) {
     return guarded(s, [&](gfmd::Simulation &m) {
-        if (std::isnan(tol)) fail(GFMD_ERR_INVALID_ARG, "tol is NaN");
-        if (max_steps <= 0) fail(GFMD_ERR_INVALID_ARG, "max_steps must be > 0, got " + std::to_string(max_steps));
-        const double t = (tol > 0.0) ? tol : GFMD_DEFAULT_TOL;
-        int64_t taken = 0;
-        const bool ok = m.relax(t, max_steps, taken);
-        if (steps_taken) *steps_taken = taken;
-        if (!ok) {
-            char buf[160];
-            std::snprintf(buf, sizeof buf, "not converged after %lld steps: residual %.3e > tol %.3e",
-                          static_cast<long long>(taken), m.forces().residual, t);
-            fail(GFMD_ERR_NOT_CONVERGED, buf);
-        }
+        relax_call(m, tol, max_steps, steps_taken,
+                   [&](double t, int64_t &taken) { return m.relax(t, max_steps, taken); });
     });
 }
 
