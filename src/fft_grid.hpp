@@ -67,6 +67,11 @@ public:
     void for_points(Body &&body) const {
         parallel_for(*pool_, local_points(), kBlock, body);
     }
+    // body(r0, r1) over the local mode rows [0, local_mode_rows()) in fixed blocks, threaded.
+    template <class Body>
+    void for_mode_rows(Body &&body) const {
+        parallel_for(*pool_, local_mode_rows(), rows_per_block_, body);
+    }
     // K global sums: body(i0, i1, acc) over local points, or body(r0, r1, acc) over local mode rows,
     // adds its block's terms to acc.  Fixed blocks, added in order, then reduce(): the result does
     // not depend on the thread count.

@@ -56,11 +56,9 @@ void convolve(const FftGrid &grid, const Body &body, std::complex<double> *work,
     const int64_t nxh = grid.nxh();
     const double *stiff = body.stiffness.data();
     const double s = 1.0 / static_cast<double>(grid.real_size());
-    for (int64_t r = 0; r < grid.local_mode_rows(); ++r)
-        for (int64_t kx = 0; kx < nxh; ++kx) {
-            const double k = stiff[r * nxh + kx];
-            work[r * nxh + kx] *= (k > 0.0) ? s / k : 0.0;
-        }
+    grid.for_mode_rows([&](int64_t r0, int64_t r1) {
+        for (int64_t i = r0 * nxh; i < r1 * nxh; ++i) work[i] *= (stiff[i] > 0.0) ? s / stiff[i] : 0.0;
+    });
     grid.backward(work, out);
 }
 
