@@ -6,10 +6,15 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include <cmocka.h>
+
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "gfmd.h"
 #include "test_support.h"
@@ -264,6 +269,48 @@ static void automatic_choice(void **state) {
     assert_int_equal(chosen(128, GFMD_GREEN_HALFSPACE, 0.0, 0.05, 0.0, 1), GFMD_SOLVER_FIRE);
 }
 
+/* CG's 16 bytes per point that cannot be had: GFMD_ERR_NOMEM and the solver unchanged.  In a child
+ * process whose address space is capped just above what it uses and then filled (not under the
+ * sanitizers or valgrind, which need address space of their own). */
+static void cg_without_memory(void **state) {
+    (void)state;
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+    skip();
+#else
+    const char *preload = getenv("LD_PRELOAD");
+    if (preload != NULL && strstr(preload, "vgpreload") != NULL) skip();
+    const pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) {
+        gfmd_sim *s = NULL;
+        if (gfmd_sim_create_ex(1024, 1024, 1024.0, 1024.0, 1, GFMD_PLANNER_ESTIMATE, &s) != GFMD_OK) _exit(3);
+        int32_t before = -1, after = -1;
+        gfmd_get_solver(s, &before);
+        long vm_kb = 0;
+        FILE *f = fopen("/proc/self/status", "r");
+        char line[256];
+        while (f && fgets(line, sizeof line, f))
+            if (!strncmp(line, "VmSize:", 7)) vm_kb = atol(line + 7);
+        if (f) fclose(f);
+        struct rlimit cap = {(rlim_t)(vm_kb + 4096) * 1024, (rlim_t)(vm_kb + 4096) * 1024}; /* 4 MB more */
+        if (vm_kb <= 0 || setrlimit(RLIMIT_AS, &cap) != 0) _exit(4);
+        /* take the free address space (and the allocator's free heap) in 1 MB pieces, then give
+         * one back for the small allocations of a call: 16 MB more cannot be had */
+        void *last = NULL;
+        for (void *p = malloc(1 << 20); p != NULL; p = malloc(1 << 20)) last = p;
+        free(last);
+        const int32_t st = gfmd_set_solver(s, GFMD_SOLVER_CG); /* needs 16 MB */
+        gfmd_get_solver(s, &after);
+        if (st != GFMD_ERR_NOMEM || after != before) fprintf(stderr, "set_solver(CG) under the cap: status %d, solver %d -> %d\n", (int)st, (int)before, (int)after);
+        _exit(st == GFMD_ERR_NOMEM && after == before ? 0 : 1);
+    }
+    int status = 0;
+    assert_int_equal(waitpid(pid, &status, 0), pid);
+    assert_true(WIFEXITED(status));
+    assert_int_equal(WEXITSTATUS(status), 0);
+#endif
+}
+
 static void not_converged_keeps_progress(void **state) {
     gfmd_sim *s = *state;
     TS_OK(s, gfmd_set_pressure(s, 0.2));
@@ -351,6 +398,7 @@ int main(void) {
         cmocka_unit_test(null_handle),
         cmocka_unit_test(create_and_destroy),
         cmocka_unit_test(automatic_choice),
+        cmocka_unit_test(cg_without_memory),
         cmocka_unit_test_setup_teardown(null_outputs, setup, teardown),
         cmocka_unit_test_setup_teardown(bad_parameters, setup, teardown),
         cmocka_unit_test_setup_teardown(bad_enums_and_combinations, setup, teardown),
