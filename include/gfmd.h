@@ -227,7 +227,7 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * Method used by gfmd_step() and gfmd_relax(): GFMD_SOLVER_AUTO (the default: for a non-adhesive
  * body under pressure control GFMD_SOLVER_CG on a half-space or bonded layer whose long waves are
  * not too soft, S sqrt(nx ny) <= 4e4 with S = k_halfspace(q_max)/k_min -- a bonded coating of any
- * Poisson's ratio, a half-space up to about 200^2 -- and on a layer on a fluid foundation where
+ * Poisson's ratio, a half-space up to about 240^2 -- and on a layer on a fluid foundation where
  * Persson's A/A0 at the load is >= 0.3 and the body starts (nearly) flat, touching at most
  * 2 sqrt(nx ny) points; GFMD_SOLVER_FIRE otherwise; re-chosen whenever the body, the adhesion or the load control changes; the
  * rule and its measurements are in docs/performance.md; gfmd_get_solver() tells the choice),
