@@ -46,6 +46,17 @@ Fields::Fields(const FftGrid &grid)
     : h(points(grid)), z(points(grid)), v(points(grid)), f(points(grid)),
       work(static_cast<std::size_t>(grid.complex_size())) {}
 
+void Fields::lift_at_rest(const FftGrid &grid) {
+    double *pz = z.data(), *pv = v.data();
+    const double *ph = h.data();
+    grid.for_points([&](int64_t i0, int64_t i1) {
+        for (int64_t i = i0; i < i1; ++i) {
+            pz[i] = std::max(pz[i], ph[i]);
+            pv[i] = 0.0;
+        }
+    });
+}
+
 void Fields::put_flat_at_rest(const FftGrid &grid) {
     double top = *std::max_element(h.data(), h.data() + h.size());
     grid.reduce_max(&top, 1);

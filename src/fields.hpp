@@ -30,6 +30,8 @@ struct Fields {
 
     // The body flat at the highest substrate point, at rest.
     void put_flat_at_rest(const FftGrid &grid);
+    // z lifted onto the substrate where it would penetrate, at rest (after z was set from outside).
+    void lift_at_rest(const FftGrid &grid);
 };
 
 // z and v at the start of a call, to restore them if the call fails half-way (the dynamics

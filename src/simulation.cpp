@@ -410,14 +410,7 @@ std::unique_ptr<Simulation> Simulation::coarsened() {
     grid_.forward(fields_.z.data(), fields_.work.data());
     copy_shared_modes(grid_, fields_.work.data(), c->grid_, c->fields_.work.data(), to_coarse);
     c->grid_.backward(c->fields_.work.data(), c->fields_.z.data());
-    double *z = c->fields_.z.data(), *v = c->fields_.v.data();
-    const double *h = c->fields_.h.data();
-    c->grid_.for_points([&](int64_t i0, int64_t i1) {
-        for (int64_t i = i0; i < i1; ++i) {
-            z[i] = std::max(z[i], h[i]);
-            v[i] = 0.0;
-        }
-    });
+    c->fields_.lift_at_rest(c->grid_);
     c->apply_control();
     c->active_solver_ = c->resolve_solver(params_.solver);
     c->refresh_forces();
@@ -455,14 +448,7 @@ bool Simulation::relax_multilevel(double tol, int64_t max_steps, int levels, int
         solver_->set_state(solver_state);
         throw;
     }
-    double *z = fields_.z.data(), *v = fields_.v.data();
-    const double *h = fields_.h.data();
-    grid_.for_points([&](int64_t i0, int64_t i1) {
-        for (int64_t i = i0; i < i1; ++i) {
-            z[i] = std::max(z[i], h[i]);
-            v[i] = 0.0;
-        }
-    });
+    fields_.lift_at_rest(grid_);
     apply_control();
     refresh_forces();
     solver_->restart(dynamics_);
