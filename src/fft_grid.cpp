@@ -7,23 +7,19 @@
 #include <string>
 
 #include "error.hpp"
+#include "fftw_planner.hpp"
 #include "gfmd.h"
+#ifdef GFMD_MPI
+#include "mpi/mpi_state.hpp"
+#endif
 
 namespace gfmd {
 
-namespace {
-// FFTW's planner, plan destruction, thread setup and wisdom are not thread-safe: serialize them
-// library-wide.
 std::mutex &planner_mutex() {
     static std::mutex m;
     return m;
 }
 
-// Below this many points one thread transforms faster than two (measured on 2 cores).
-constexpr int64_t kMinPointsForThreads = 128 * 128;
-
-// FFTW's threads, initialized once before any plan or wisdom (wisdom exported with threads only
-// imports into a process whose threads are initialized).  Call with the planner mutex held.
 bool threads_ready() {
     static const bool ready = [] {
         if (fftw_init_threads() == 0) return false;
@@ -33,29 +29,6 @@ bool threads_ready() {
     return ready;
 }
 
-// Wisdom set aside while an ESTIMATE plan is made, and given back after.  FFTW plans from wisdom of
-// an equal or more rigorous planner when it has some, so an ESTIMATE plan made after a MEASURE plan
-// of the same size would be the measured one, chosen by timings: other bits in another process.
-// Without the wisdom it is FFTW's deterministic estimate, the same in every process.
-class WisdomAside {
-public:
-    explicit WisdomAside(bool active) : saved_(active ? fftw_export_wisdom_to_string() : nullptr) {
-        if (active && saved_ == nullptr) throw std::bad_alloc();
-        if (active) fftw_forget_wisdom();
-    }
-    WisdomAside(const WisdomAside &) = delete;
-    WisdomAside &operator=(const WisdomAside &) = delete;
-    ~WisdomAside() {
-        if (saved_ == nullptr) return;
-        fftw_forget_wisdom();  // the estimate's own entries: later ESTIMATE plans make them afresh
-        fftw_import_wisdom_from_string(saved_);
-        fftw_free(saved_);
-    }
-
-private:
-    char *saved_;
-};
-}  // namespace
 
 unsigned planner_flags(int32_t planner) {
     switch (planner) {
@@ -100,11 +73,39 @@ bool export_wisdom(const char *path) {
     return fftw_export_wisdom_to_filename(path) != 0;
 }
 
-FftGrid::FftGrid(int64_t nx, int64_t ny, double lx, double ly, int threads, int32_t planner)
+#ifndef GFMD_MPI
+// The serial library has no distributed state (src/mpi/fft_grid_mpi.cpp defines it for libgfmd_mpi).
+struct MpiState {};
+const Distribution *FftGrid::distribution() const { return nullptr; }
+void FftGrid::reduce_exact(ExactSum *, int) const {}
+void FftGrid::reduce_max(double *, int) const {}
+int32_t FftGrid::agree(int32_t status, std::string &) const { return status; }
+void FftGrid::forward_distributed(const double *, std::complex<double> *) const {}
+void FftGrid::backward_distributed(std::complex<double> *, double *) const {}
+void FftGrid::distribute(const Distribution *) {}
+void FftGrid::replan_distributed(ThreadPool &, int32_t) {}
+void FftGrid::gather_column0_distributed(const std::complex<double> *, std::complex<double> *) const {}
+#endif
+
+void FftGrid::gather_column0(const std::complex<double> *local, std::complex<double> *all) const {
+    if (!mpi_) {
+        for (int64_t ky = 0; ky < ny_; ++ky) all[ky] = local[ky * nxh()];
+        return;
+    }
+    gather_column0_distributed(local, all);
+}
+
+FftGrid::FftGrid(int64_t nx, int64_t ny, double lx, double ly, int threads, int32_t planner, const Distribution *dist)
     : nx_((validate_grid(nx, ny, lx, ly), nx)), ny_(ny), lx_(lx), ly_(ly),
       pool_(std::make_unique<ThreadPool>(resolve_threads(threads))),
-      planner_((validate_planner(planner), planner)), rows_per_block_(std::max<int64_t>(1, kBlock / (nx / 2 + 1))) {
+      planner_((validate_planner(planner), planner)), rows_per_block_(std::max<int64_t>(1, kBlock / (nx / 2 + 1))),
+      local_rows_(ny), complex_size_(ny * (nx / 2 + 1)) {
     if (nx > INT_MAX || ny > INT_MAX) fail(GFMD_ERR_INVALID_ARG, "grid dimension exceeds FFTW's int range");
+    if (dist != nullptr) {
+        distribute(dist);  // collective: slabs, plans and the transforms' buffers
+        sums_ = RealBuffer(static_cast<std::size_t>(6 * std::max<int64_t>(local_rows_, 1)));
+        return;
+    }
     // Enough partial sums for the largest reduction: 6 sums per block of points or of mode rows.
     sums_ = RealBuffer(static_cast<std::size_t>(
         6 * std::max(block_count(local_points(), kBlock), block_count(local_mode_rows(), rows_per_block_))));
@@ -138,13 +139,15 @@ void FftGrid::replan(int threads, int32_t planner) {
     auto pool = (t == pool_->size()) ? std::move(pool_) : std::make_unique<ThreadPool>(t);
     fftw_plan r2c = nullptr, c2r = nullptr;
     try {
-        make_plans(*pool, planner, r2c, c2r);
+        if (mpi_) replan_distributed(*pool, planner);
+        else make_plans(*pool, planner, r2c, c2r);
     } catch (...) {
         if (!pool_) pool_ = std::move(pool);  // the same pool: give it back
         throw;
     }
     pool_ = std::move(pool);
     planner_ = planner;
+    if (mpi_) return;
     std::lock_guard<std::mutex> lock(planner_mutex());
     fftw_destroy_plan(r2c_);
     fftw_destroy_plan(c2r_);
@@ -154,17 +157,19 @@ void FftGrid::replan(int threads, int32_t planner) {
 
 FftGrid::~FftGrid() {
     std::lock_guard<std::mutex> lock(planner_mutex());
-    fftw_destroy_plan(r2c_);
-    fftw_destroy_plan(c2r_);
+    if (r2c_ != nullptr) fftw_destroy_plan(r2c_);
+    if (c2r_ != nullptr) fftw_destroy_plan(c2r_);
 }
 
 void FftGrid::forward(const double *in, std::complex<double> *out) const {
+    if (mpi_) return forward_distributed(in, out);
     // FFTW's new-array execute takes a non-const input; r2c does not modify it.
     PoolScope scope(pool_.get());
     fftw_execute_dft_r2c(r2c_, const_cast<double *>(in), reinterpret_cast<fftw_complex *>(out));
 }
 
 void FftGrid::backward(std::complex<double> *in, double *out) const {
+    if (mpi_) return backward_distributed(in, out);
     PoolScope scope(pool_.get());
     fftw_execute_dft_c2r(c2r_, reinterpret_cast<fftw_complex *>(in), out);
 }

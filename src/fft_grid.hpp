@@ -13,9 +13,12 @@
 #include <complex>
 #include <cstdint>
 #include <memory>
+#include <string>
 
 #include "buffer.hpp"
 #include "constants.hpp"
+#include "error.hpp"
+#include "exact_sum.hpp"
 #include "parallel.hpp"
 
 namespace gfmd {
@@ -32,11 +35,18 @@ void validate_grid(int64_t nx, int64_t ny, double lx, double ly);
 bool import_wisdom(const char *path);
 bool export_wisdom(const char *path);
 
+// A communicator to distribute a grid over (libgfmd_mpi only; defined in src/mpi/, where mpi.h is
+// seen).  The serial library never makes one: its grids are all local.
+struct Distribution;
+struct MpiState;
+
 class FftGrid {
 public:
     // threads: threads of the loops and transforms (small grids transform on one), 0 = default;
-    // planner: GFMD_PLANNER_*.  Plans once.
-    FftGrid(int64_t nx, int64_t ny, double lx, double ly, int threads, int32_t planner);
+    // planner: GFMD_PLANNER_*.  Plans once.  With a distribution (libgfmd_mpi) the grid is split
+    // into slabs of rows over its ranks, and construction is collective.
+    FftGrid(int64_t nx, int64_t ny, double lx, double ly, int threads, int32_t planner,
+            const Distribution *dist = nullptr);
     FftGrid(const FftGrid &) = delete;
     FftGrid &operator=(const FftGrid &) = delete;
     ~FftGrid();
@@ -47,20 +57,27 @@ public:
     double ly() const { return ly_; }
     int64_t real_size() const { return nx_ * ny_; }
     int64_t nxh() const { return nx_ / 2 + 1; }          // complex columns (Hermitian half)
-    int64_t complex_size() const { return ny_ * nxh(); }  // complex points
+    int64_t complex_size() const { return complex_size_; }  // complex points (local)
     double cell_area() const { return lx_ * ly_; }
     double area_per_point() const { return lx_ * ly_ / static_cast<double>(nx_ * ny_); }
     int threads() const { return pool_->size(); }
     int32_t planner() const { return planner_; }
 
     // Local extents.  Real space: the points this process owns, local_points() of them, rows of
-    // row_stride() values from global row first_row().  Fourier space: local_mode_rows() rows of
-    // nxh() modes (ky = first_mode_row() + r).  Serial: everything, unpadded.
-    int64_t local_points() const { return nx_ * ny_; }
-    int64_t first_row() const { return 0; }
-    int64_t row_stride() const { return nx_; }
-    int64_t local_mode_rows() const { return ny_; }
-    int64_t first_mode_row() const { return 0; }
+    // nx() values from global row first_row().  Fourier space: local_mode_rows() rows of nxh()
+    // modes (ky = first_mode_row() + r); a distributed grid has the same rows in both spaces.
+    // Serial: everything.  complex_size() is what a complex array of the grid must hold (the
+    // distributed transforms may need more than the local modes).
+    int64_t local_points() const { return local_rows_ * nx_; }
+    int64_t first_row() const { return first_row_; }
+    int64_t local_mode_rows() const { return local_rows_; }
+    int64_t first_mode_row() const { return first_row_; }
+    // Distributed (libgfmd_mpi): the grid's ranks and this process's rank; serial: 1 and 0.
+    bool distributed() const { return mpi_ != nullptr; }
+    int ranks() const { return ranks_; }
+    int rank() const { return rank_; }
+    // The distribution to make another grid over the same ranks with (nullptr: serial).
+    const Distribution *distribution() const;
 
     // body(i0, i1) over the local points [0, local_points()) in fixed blocks, threaded.
     template <class Body>
@@ -73,19 +90,18 @@ public:
         parallel_for(*pool_, local_mode_rows(), rows_per_block_, body);
     }
     // K global sums: body(i0, i1, acc) over local points, or body(r0, r1, acc) over local mode rows,
-    // adds its block's terms to acc.  Fixed blocks, added in order, then reduce(): the result does
-    // not depend on the thread count.
+    // adds its block's terms to acc.  Serial: fixed blocks, added in order; the result does not
+    // depend on the thread count.  Distributed: one partial per global row, added exactly over all
+    // ranks; the result does not depend on the ranks or threads either.
     template <int K, class Body>
     std::array<double, K> sum_points(Body &&body) const {
-        auto s = parallel_sums<K>(*pool_, local_points(), kBlock, sums_.data(), body);
-        reduce(s.data(), K);
-        return s;
+        if (mpi_) return row_sums<K>(nx_, body);
+        return parallel_sums<K>(*pool_, local_points(), kBlock, sums_.data(), body);
     }
     template <int K, class Body>
     std::array<double, K> sum_mode_rows(Body &&body) const {
-        auto s = parallel_sums<K>(*pool_, local_mode_rows(), rows_per_block_, sums_.data(), body);
-        reduce(s.data(), K);
-        return s;
+        if (mpi_) return row_sums<K>(1, body);
+        return parallel_sums<K>(*pool_, local_mode_rows(), rows_per_block_, sums_.data(), body);
     }
     // The mean of a local field over the whole grid (fixed blocks: independent of the threads).
     double mean(const double *x) const {
@@ -96,10 +112,28 @@ public:
         });
         return s[0] / static_cast<double>(real_size());
     }
-    // The one global reduction: sums x[0..k) over all processes (serial: nothing to do); and its
-    // twin for extremes, x[i] = the largest over all processes.
-    void reduce(double *, int) const {}
-    void reduce_max(double *, int) const {}
+    // x[i] = the largest over all processes (serial: nothing to do).  Exact in any order.
+    void reduce_max(double *x, int k) const;
+    // Every rank learns the first failure: status != 0 on any rank gives every rank the status
+    // and message of the lowest failing rank (serial: unchanged).  Returns the agreed status.
+    int32_t agree(int32_t status, std::string &message) const;
+    // Runs check() (validation of this rank's data) so that either every rank goes on or every
+    // rank throws the first failure: no rank is left waiting in a collective for one that threw.
+    template <class Check>
+    void on_all_ranks(Check &&check) const {
+        int32_t status = 0;
+        std::string message;
+        try {
+            check();
+        } catch (const Error &e) {
+            status = e.status();
+            message = e.what();
+        }
+        status = agree(status, message);
+        if (status != 0) fail(status, message);
+    }
+    // The modes kx = 0 of every ky (ny values, all ranks), from a local complex array.
+    void gather_column0(const std::complex<double> *local, std::complex<double> *all) const;
 
     // Wave vector components of complex index (kx, ky), kx in [0, nxh), ky in [0, ny).
     double qx(int64_t kx) const { return 2.0 * kPi * static_cast<double>(kx) / lx_; }
@@ -122,7 +156,34 @@ public:
     void replan(int threads, int32_t planner);
 
 private:
+    // Distributed sums: per global row r, body(r * stride, (r + 1) * stride, acc) (stride nx for
+    // points, 1 for mode rows), each partial added exactly, then one Allreduce of the K sums.
+    template <int K, class Body>
+    std::array<double, K> row_sums(int64_t stride, Body &body) const {
+        double *part = sums_.data();
+        parallel_for(*pool_, local_rows_, rows_per_block_, [&](int64_t r0, int64_t r1) {
+            for (int64_t r = r0; r < r1; ++r) {
+                double *acc = part + K * r;
+                for (int k = 0; k < K; ++k) acc[k] = 0.0;
+                body(r * stride, (r + 1) * stride, acc);
+            }
+        });
+        ExactSum exact[K];
+        for (int64_t r = 0; r < local_rows_; ++r)
+            for (int k = 0; k < K; ++k) exact[k].add(part[K * r + k]);
+        reduce_exact(exact, K);
+        std::array<double, K> s{};
+        for (int k = 0; k < K; ++k) s[k] = exact[k].value();
+        return s;
+    }
+    void reduce_exact(ExactSum *x, int k) const;  // adds the accumulators of all ranks
     void make_plans(ThreadPool &pool, int32_t planner, fftw_plan &r2c, fftw_plan &c2r) const;
+    // libgfmd_mpi (src/mpi/fft_grid_mpi.cpp): slabs, plans and buffers; the transforms.
+    void distribute(const Distribution *dist);
+    void replan_distributed(ThreadPool &pool, int32_t planner);
+    void gather_column0_distributed(const std::complex<double> *local, std::complex<double> *all) const;
+    void forward_distributed(const double *in, std::complex<double> *out) const;
+    void backward_distributed(std::complex<double> *in, double *out) const;
     int64_t nx_, ny_;
     double lx_, ly_;
     std::unique_ptr<ThreadPool> pool_;  // the loops' and the transforms' threads
@@ -131,6 +192,9 @@ private:
     mutable RealBuffer sums_;  // per-block partial sums of the threaded reductions (no allocation per sum)
     fftw_plan r2c_ = nullptr;
     fftw_plan c2r_ = nullptr;
+    int64_t local_rows_, first_row_ = 0, complex_size_;
+    int ranks_ = 1, rank_ = 0;
+    std::unique_ptr<MpiState> mpi_;  // the communicator, plans and buffers of a distributed grid
 };
 
 }  // namespace gfmd

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <string>
 
 #include "error.hpp"
@@ -58,7 +59,7 @@ void Fields::lift_at_rest(const FftGrid &grid) {
 }
 
 void Fields::put_flat_at_rest(const FftGrid &grid) {
-    double top = *std::max_element(h.data(), h.data() + h.size());
+    double top = (h.size() > 0) ? *std::max_element(h.data(), h.data() + h.size()) : -std::numeric_limits<double>::infinity();
     grid.reduce_max(&top, 1);
     std::fill(z.data(), z.data() + z.size(), top);
     std::fill(v.data(), v.data() + v.size(), 0.0);

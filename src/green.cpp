@@ -109,25 +109,27 @@ Body make_body(const FftGrid &grid, int32_t kind, double width, double e_star, d
     Body b;
     b.stiffness = RealBuffer(static_cast<std::size_t>(grid.local_mode_rows() * grid.nxh()));
     const int64_t nxh = grid.nxh();
-    for (int64_t r = 0; r < grid.local_mode_rows(); ++r) {
-        const double qy = grid.qy(grid.first_mode_row() + r);
-        for (int64_t kx = 0; kx < nxh; ++kx) {
-            const double qx = grid.qx(kx);
-            const double q = std::sqrt(qx * qx + qy * qy);
-            double kq = 0.0;  // the uniform mode has no elastic stiffness: force balance sets it
-            if (q > 0.0) {
-                const double g = (kind == GFMD_GREEN_HALFSPACE) ? 1.0 : green_inverse_factor(kind, q * width, nu);
-                kq = 0.5 * q * e_star * g;  // 1/G(q) = q E* / (2 f(q w)), the seed paper's Eq. 2
-                if (!std::isfinite(kq)) {
-                    char t[32];
-                    std::snprintf(t, sizeof t, "%.6g", q * width);
-                    fail(GFMD_ERR_RANGE, std::string("the stiffness 1/G(q) overflows at q w = ") + t +
-                                             ": the layer is too thin or too stiff for this grid");
+    grid.on_all_ranks([&] {  // an overflow on one rank's modes stops every rank
+        for (int64_t r = 0; r < grid.local_mode_rows(); ++r) {
+            const double qy = grid.qy(grid.first_mode_row() + r);
+            for (int64_t kx = 0; kx < nxh; ++kx) {
+                const double qx = grid.qx(kx);
+                const double q = std::sqrt(qx * qx + qy * qy);
+                double kq = 0.0;  // the uniform mode has no elastic stiffness: force balance sets it
+                if (q > 0.0) {
+                    const double g = (kind == GFMD_GREEN_HALFSPACE) ? 1.0 : green_inverse_factor(kind, q * width, nu);
+                    kq = 0.5 * q * e_star * g;  // 1/G(q) = q E* / (2 f(q w)), the seed paper's Eq. 2
+                    if (!std::isfinite(kq)) {
+                        char t[32];
+                        std::snprintf(t, sizeof t, "%.6g", q * width);
+                        fail(GFMD_ERR_RANGE, std::string("the stiffness 1/G(q) overflows at q w = ") + t +
+                                                 ": the layer is too thin or too stiff for this grid");
+                    }
                 }
+                b.stiffness[static_cast<std::size_t>(r * nxh + kx)] = kq;
             }
-            b.stiffness[static_cast<std::size_t>(r * nxh + kx)] = kq;
         }
-    }
+    });
     b.k_min = std::numeric_limits<double>::infinity();
     for (std::size_t c = 0; c < b.stiffness.size(); ++c) {
         if (b.stiffness[c] > 0.0) b.k_min = std::min(b.k_min, b.stiffness[c]);

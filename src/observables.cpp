@@ -45,14 +45,16 @@ double persson_variance(const FftGrid &grid, const Body &body, const Fields &fie
     grid.forward(fields.h.data(), hq.data());
     const int64_t nxh = grid.nxh();
     const double inv_n = 1.0 / static_cast<double>(grid.real_size());
-    double v = 0.0;
-    for (int64_t r = 0; r < grid.local_mode_rows(); ++r)
-        for (int64_t kx = 0; kx < nxh; ++kx) {
-            const std::size_t c = static_cast<std::size_t>(r * nxh + kx);
-            const double s = body.stiffness[c] * (std::abs(hq[c]) * inv_n);  // scaled first: no overflow
-            v += grid.weight(kx) * s * s;
-        }
-    grid.reduce(&v, 1);
+    const double v = grid.sum_mode_rows<1>([&](int64_t r0, int64_t r1, double *acc) {
+        double t = 0.0;
+        for (int64_t r = r0; r < r1; ++r)
+            for (int64_t kx = 0; kx < nxh; ++kx) {
+                const std::size_t c = static_cast<std::size_t>(r * nxh + kx);
+                const double s = body.stiffness[c] * (std::abs(hq[c]) * inv_n);  // scaled first: no overflow
+                t += grid.weight(kx) * s * s;
+            }
+        acc[0] += t;
+    })[0];
     if (!std::isfinite(v)) fail(GFMD_ERR_RANGE, "the full-contact pressure variance overflows double precision");
     return v;
 }

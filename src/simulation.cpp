@@ -26,9 +26,9 @@ void require_finite(double x, const char *name) {
 }
 
 // nx, after checking the grid and that it fits in memory: nothing is allocated or planned before.
-int64_t admitted(int64_t nx, int64_t ny, double lx, double ly) {
+int64_t admitted(int64_t nx, int64_t ny, double lx, double ly, const Distribution *dist) {
     validate_grid(nx, ny, lx, ly);
-    check_memory(nx, ny);
+    if (dist == nullptr) check_memory(nx, ny);
     return nx;
 }
 
@@ -40,8 +40,9 @@ RealBuffer copy_of(const RealBuffer &from) {
 
 }  // namespace
 
-Simulation::Simulation(int64_t nx, int64_t ny, double lx, double ly, int threads, int32_t planner)
-    : grid_(admitted(nx, ny, lx, ly), ny, lx, ly, threads, planner),
+Simulation::Simulation(int64_t nx, int64_t ny, double lx, double ly, int threads, int32_t planner,
+                       const Distribution *dist)
+    : grid_(admitted(nx, ny, lx, ly, dist), ny, lx, ly, threads, planner, dist),
       body_(make_body(grid_, params_.kind, params_.width, params_.e_star, params_.nu)),
       dynamics_(dynamics_for(params_, body_)),
       fields_(grid_),
@@ -54,7 +55,7 @@ Simulation::Simulation(int64_t nx, int64_t ny, double lx, double ly, int threads
 
 std::unique_ptr<Simulation> Simulation::clone() const {
     auto c = std::make_unique<Simulation>(grid_.nx(), grid_.ny(), grid_.lx(), grid_.ly(), grid_.threads(),
-                                          grid_.planner());
+                                          grid_.planner(), grid_.distribution());
     c->params_ = params_;
     c->body_.stiffness = copy_of(body_.stiffness);
     c->body_.k_min = body_.k_min;
@@ -169,10 +170,12 @@ void Simulation::change_substrate(RealBuffer &&h) {
 
 void Simulation::set_heights(const double *h) {
     const int64_t n = grid_.local_points();
-    for (int64_t i = 0; i < n; ++i)
-        if (!std::isfinite(h[i]) || std::fabs(h[i]) > kMaxHeight)
-            fail(GFMD_ERR_INVALID_ARG, "height " + std::to_string(i) + " = " + num(h[i]) +
-                                           " is not finite or exceeds 1e100 in magnitude");
+    grid_.on_all_ranks([&] {
+        for (int64_t i = 0; i < n; ++i)
+            if (!std::isfinite(h[i]) || std::fabs(h[i]) > kMaxHeight)
+                fail(GFMD_ERR_INVALID_ARG, "height " + std::to_string(i + grid_.first_row() * grid_.nx()) + " = " +
+                                               num(h[i]) + " is not finite or exceeds 1e100 in magnitude");
+    });
     RealBuffer nh(static_cast<std::size_t>(n));  // the new substrate, 8 B/pt for this call
     std::copy(h, h + n, nh.data());
     change_substrate(std::move(nh));
@@ -430,6 +433,9 @@ bool Simulation::relax_multilevel(double tol, int64_t max_steps, int levels, int
                                        std::to_string(grid_.nx()) + " x " + std::to_string(grid_.ny()));
     coarse_steps = 0;
     if (levels == 1) return relax(tol, max_steps, steps_taken);
+    if (grid_.distributed())
+        fail(GFMD_ERR_STATE, "a distributed handle relaxes from its own grid only (levels = 1): the coarse grids "
+                             "of the multilevel start are not distributed yet");
     undo_.save(fields_);  // a failure below restores the state of the call's start
     const std::vector<double> solver_state = solver_->state();
     try {

@@ -23,7 +23,10 @@ public:
     // threads 0 = the default; the FFT is planned once, with these settings.  Throws
     // GFMD_ERR_INVALID_ARG / GFMD_ERR_BAD_ENUM for bad sizes, threads or planner, GFMD_ERR_NOMEM
     // (before allocating) when the grid does not fit in the memory available.
-    Simulation(int64_t nx, int64_t ny, double lx, double ly, int threads = 0, int32_t planner = GFMD_PLANNER_MEASURE);
+    // With a distribution (libgfmd_mpi) the grid is split over its ranks and construction is
+    // collective; the caller has checked the memory of this rank's slab.
+    Simulation(int64_t nx, int64_t ny, double lx, double ly, int threads = 0, int32_t planner = GFMD_PLANNER_MEASURE,
+               const Distribution *dist = nullptr);
     // Deep copy: an independent simulation in the same state (parameters, fields, solver state),
     // planned once with this one's threads and planner.
     std::unique_ptr<Simulation> clone() const;

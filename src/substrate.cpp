@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
+#include <vector>
 
 #include "error.hpp"
 #include "rng.hpp"
@@ -47,47 +49,61 @@ void validate_selfaffine(const FftGrid &grid, const SelfAffineParams &p) {
 void generate_selfaffine(const FftGrid &grid, const SelfAffineParams &p, std::complex<double> *work, double *h) {
     validate_selfaffine(grid, p);
     const double q_r = kTwoPi / p.lambda_r, q_s = kTwoPi / p.lambda_s;
-    const int64_t nxh = grid.nxh(), ny = grid.ny();
+    const int64_t nxh = grid.nxh(), ny = grid.ny(), rows = grid.local_mode_rows(), y0 = grid.first_mode_row();
     Rng rng(p.seed);
     // Two numbers of unit total second moment per mode: uniform on [-sqrt(3/2), sqrt(3/2)] has
-    // variance 1/2, as has a Gaussian of sigma sqrt(1/2).  Every mode draws, in a fixed order, so
-    // the phases of a seed do not depend on H, lambda_r or lambda_s.
+    // variance 1/2, as has a Gaussian of sigma sqrt(1/2).  Every mode draws two numbers, in a fixed
+    // order (ky rows, kx fastest), so the phases of a seed do not depend on H, lambda_r or
+    // lambda_s, and a distributed grid's rows are one stretch of the same stream.
     const double uniform_half_width = std::sqrt(1.5);
-    double grad2 = 0.0;
-    for (int64_t ky = 0; ky < ny; ++ky) {
+    for (int64_t d = 0; d < 2 * nxh * y0; ++d) rng.next();
+    for (int64_t r = 0; r < rows; ++r) {
+        const int64_t ky = y0 + r;
         for (int64_t kx = 0; kx < nxh; ++kx) {
             double re = 0.0, im = 0.0;
             if (p.distribution == GFMD_DIST_UNIFORM) {
                 re = uniform_half_width * (2.0 * rng.uniform() - 1.0);
                 im = uniform_half_width * (2.0 * rng.uniform() - 1.0);
             } else {  // Box-Muller
-                const double r = std::sqrt(-std::log(rng.uniform_open0()));
+                const double rad = std::sqrt(-std::log(rng.uniform_open0()));
                 const double phi = kTwoPi * rng.uniform();
-                re = r * std::cos(phi);
-                im = r * std::sin(phi);
+                re = rad * std::cos(phi);
+                im = rad * std::sin(phi);
             }
             const double qx = grid.qx(kx), qy = grid.qy(ky);
             const double q2 = qx * qx + qy * qy;
             double amp = 0.0;
             if ((kx != 0 || ky != 0) && !grid.nyquist(kx, ky)) amp = std::sqrt(spectrum(std::sqrt(q2), q_r, q_s, p.hurst));
-            work[ky * nxh + kx] = std::complex<double>(amp * re, amp * im);
+            work[r * nxh + kx] = std::complex<double>(amp * re, amp * im);
         }
     }
     // Real result: on the column kx = 0 the modes ky and ny - ky must be complex conjugates.
-    for (int64_t ky = ny / 2 + 1; ky < ny; ++ky) work[ky * nxh] = std::conj(work[(ny - ky) * nxh]);
-    for (int64_t ky = 0; ky < ny; ++ky) {
-        for (int64_t kx = 0; kx < nxh; ++kx) {
-            const double qx = grid.qx(kx), qy = grid.qy(ky);
-            grad2 += grid.weight(kx) * (qx * qx + qy * qy) * std::norm(work[ky * nxh + kx]);
-        }
+    std::vector<std::complex<double>> column(static_cast<std::size_t>(ny));
+    grid.gather_column0(work, column.data());
+    for (int64_t r = 0; r < rows; ++r) {
+        const int64_t ky = y0 + r;
+        if (ky > ny / 2) work[r * nxh] = std::conj(column[static_cast<std::size_t>(ny - ky)]);
     }
+    // <|grad h|^2>: term by term in the serial library's order (its surfaces stay the bits they
+    // were); a distributed grid sums exactly per row.
+    const auto gradient_terms = [&](int64_t r0, int64_t r1, double *acc) {
+        for (int64_t r = r0; r < r1; ++r)
+            for (int64_t kx = 0; kx < nxh; ++kx) {
+                const double qx = grid.qx(kx), qy = grid.qy(y0 + r);
+                acc[0] += grid.weight(kx) * (qx * qx + qy * qy) * std::norm(work[r * nxh + kx]);
+            }
+    };
+    double grad2 = 0.0;
+    if (grid.distributed()) grad2 = grid.sum_mode_rows<1>(gradient_terms)[0];
+    else gradient_terms(0, rows, &grad2);
     if (!(grad2 > 0.0)) fail(GFMD_ERR_INVALID_ARG, "no Fourier mode of the grid lies in (0, q_s]");
     // Coefficients are the normalized ones (h(r) = sum_q h(q) e^{iqr}), so <|grad h|^2> = grad2.
     const double scale = p.rms_gradient / std::sqrt(grad2);
-    for (int64_t c = 0; c < grid.complex_size(); ++c) work[c] *= scale;
+    for (int64_t c = 0; c < rows * nxh; ++c) work[c] *= scale;
     grid.backward(work, h);
-    const int64_t n = grid.real_size();
-    const double hmax = *std::max_element(h, h + n);
+    const int64_t n = grid.local_points();
+    double hmax = (n > 0) ? *std::max_element(h, h + n) : -std::numeric_limits<double>::infinity();
+    grid.reduce_max(&hmax, 1);
     for (int64_t i = 0; i < n; ++i) h[i] -= hmax;
 }
 

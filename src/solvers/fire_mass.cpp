@@ -43,12 +43,14 @@ void FireMass::update_mass_floor(const StepContext &c) {
     // omega^2 = k(q)/m(q) <= 1 for the elastic modes.  The adhesive law's stiffness is local: a
     // single point's acceleration per unit force is the real-space diagonal of M^-1, the mean of
     // 1/m(q) over all modes (translation invariance), so it adds k_adh <1/m>.
-    double inv_m = 0.0;
-    for (int64_t r = 0; r < grid.local_mode_rows(); ++r)
-        for (int64_t kx = 0; kx < nxh; ++kx)
-            inv_m += grid.weight(kx) / std::max(stiff[static_cast<std::size_t>(r * nxh + kx)], floor_);
-    grid.reduce(&inv_m, 1);
-    inv_m /= static_cast<double>(grid.real_size());
+    const double floor = floor_;
+    const double inv_m = grid.sum_mode_rows<1>([&](int64_t r0, int64_t r1, double *acc) {
+        double t = 0.0;
+        for (int64_t r = r0; r < r1; ++r)
+            for (int64_t kx = 0; kx < nxh; ++kx)
+                t += grid.weight(kx) / std::max(stiff[static_cast<std::size_t>(r * nxh + kx)], floor);
+        acc[0] += t;
+    })[0] / static_cast<double>(grid.real_size());
     mass_dt_ = kDtFactor / std::sqrt(1.0 + c.params.adhesive_stiffness() * inv_m);
     bucket_ = bucket;
 }
