@@ -8,68 +8,22 @@
 #include <string>
 #include <utility>
 
+#include "c_api_support.hpp"
 #include "error.hpp"
 #include "gfmd.h"
 #include "green.hpp"
 #include "least_squares.hpp"
 #include "simulation.hpp"
 
-struct gfmd_sim {
-    std::unique_ptr<gfmd::Simulation> sim;
-    mutable std::string last_error;
-};
-
 namespace {
 
 using gfmd::fail;
-
-void record(const gfmd_sim *s, const char *msg) noexcept {
-    try {
-        s->last_error = msg;
-    } catch (...) {
-        s->last_error.clear();  // cannot store the message: the status still says what failed
-    }
-}
-
-// Run f, turning every exception into its status; report(message) receives the message of a
-// failure (a handle's last error, a caller's buffer, or nothing for calls without either).
-template <class F, class Report>
-int32_t status_of(F &&f, Report &&report) noexcept {
-    try {
-        f();
-        return GFMD_OK;
-    } catch (const gfmd::Error &e) {
-        report(e.what());
-        return e.status();
-    } catch (const std::bad_alloc &) {
-        report("out of memory");
-        return GFMD_ERR_NOMEM;
-    } catch (const std::exception &e) {
-        report(e.what());
-        return GFMD_ERR_INTERNAL;
-    } catch (...) {
-        report("unknown internal error");
-        return GFMD_ERR_INTERNAL;
-    }
-}
-
-template <class F>
-int32_t status_of(F &&f) noexcept {
-    return status_of(std::forward<F>(f), [](const char *) {});
-}
-
-// Run f on a valid handle; translate exceptions.  The message of the last failure stays in the
-// handle until the next failure.
-template <class F>
-int32_t guarded(const gfmd_sim *s, F &&f) noexcept {
-    if (s == nullptr || !s->sim) return GFMD_ERR_NULL;
-    return status_of([&] { f(*s->sim); }, [s](const char *msg) { record(s, msg); });
-}
-
-template <class T>
-void need(const T *p, const char *name) {
-    if (p == nullptr) fail(GFMD_ERR_NULL, std::string("argument '") + name + "' is NULL");
-}
+using gfmd::capi::args;
+using gfmd::capi::guarded;
+using gfmd::capi::need;
+using gfmd::capi::record;
+using gfmd::capi::status_of;
+using gfmd::capi::whole_grid;
 
 // A relaxation as gfmd_relax() documents it: tol <= 0 is the default, max_steps > 0; run(t)
 // relaxes to t and returns whether it converged; *steps_taken gets the steps it reports.
@@ -147,7 +101,7 @@ int32_t gfmd_sim_clone(const gfmd_sim *s, gfmd_sim **out) {
         return GFMD_ERR_NULL;
     }
     *out = nullptr;
-    return guarded(s, [&](const gfmd::Simulation &m) {
+    return guarded(s, args(out), [&](const gfmd::Simulation &m) {
         auto handle = std::make_unique<gfmd_sim>();
         handle->sim = m.clone();
         *out = handle.release();
@@ -161,8 +115,9 @@ void gfmd_sim_destroy(gfmd_sim **sim) {
 }
 
 int32_t gfmd_sim_save(const gfmd_sim *s, const char *path) {
-    return guarded(s, [&](const gfmd::Simulation &m) {
+    return guarded(s, args(path), [&](const gfmd::Simulation &m) {
         need(path, "path");
+        whole_grid(m, "a single-rank handle (distributed checkpoints are not written yet)");
         m.save(path);
     });
 }
@@ -187,7 +142,7 @@ int32_t gfmd_sim_load(const char *path, gfmd_sim **out, char *errbuf, int64_t er
 }
 
 int32_t gfmd_get_grid(const gfmd_sim *s, int64_t *nx, int64_t *ny, double *lx, double *ly) {
-    return guarded(s, [&](const gfmd::Simulation &m) {
+    return guarded(s, args(nx, ny, lx, ly), [&](const gfmd::Simulation &m) {
         if (nx) *nx = m.grid().nx();
         if (ny) *ny = m.grid().ny();
         if (lx) *lx = m.grid().lx();
@@ -196,15 +151,15 @@ int32_t gfmd_get_grid(const gfmd_sim *s, int64_t *nx, int64_t *ny, double *lx, d
 }
 
 int32_t gfmd_set_modulus(gfmd_sim *s, double e_star) {
-    return guarded(s, [&](gfmd::Simulation &m) { m.set_modulus(e_star); });
+    return guarded(s, args(e_star), [&](gfmd::Simulation &m) { m.set_modulus(e_star); });
 }
 
 int32_t gfmd_set_green(gfmd_sim *s, int32_t kind, double width) {
-    return guarded(s, [&](gfmd::Simulation &m) { m.set_green(kind, width); });
+    return guarded(s, args(kind, width), [&](gfmd::Simulation &m) { m.set_green(kind, width); });
 }
 
 int32_t gfmd_set_poisson(gfmd_sim *s, double nu) {
-    return guarded(s, [&](gfmd::Simulation &m) { m.set_poisson(nu); });
+    return guarded(s, args(nu), [&](gfmd::Simulation &m) { m.set_poisson(nu); });
 }
 
 int32_t gfmd_green_factor(int32_t kind, double t, double nu, double *f) {
@@ -220,84 +175,86 @@ int32_t gfmd_green_factor(int32_t kind, double t, double nu, double *f) {
 }
 
 int32_t gfmd_set_heights(gfmd_sim *s, const double *h) {
-    return guarded(s, [&](gfmd::Simulation &m) {
+    return guarded(s, args(h), [&](gfmd::Simulation &m) {
         need(h, "h");
+        whole_grid(m, "gfmd_mpi_set_local_heights");
         m.set_heights(h);
     });
 }
 
 int32_t gfmd_get_heights(const gfmd_sim *s, double *h) {
-    return guarded(s, [&](const gfmd::Simulation &m) {
+    return guarded(s, args(h), [&](const gfmd::Simulation &m) {
         need(h, "h");
+        whole_grid(m, "gfmd_mpi_get_local_heights");
         m.heights(h);
     });
 }
 
 int32_t gfmd_generate_selfaffine(gfmd_sim *s, double hurst, double lambda_r, double lambda_s, double rms_gradient,
                                  uint64_t seed, int32_t distribution) {
-    return guarded(s, [&](gfmd::Simulation &m) {
+    return guarded(s, args(hurst, lambda_r, lambda_s, rms_gradient, seed, distribution), [&](gfmd::Simulation &m) {
         m.generate_selfaffine(gfmd::SelfAffineParams{hurst, lambda_r, lambda_s, rms_gradient, seed, distribution});
     });
 }
 
 int32_t gfmd_set_pressure(gfmd_sim *s, double sigma0) {
-    return guarded(s, [&](gfmd::Simulation &m) { m.set_pressure(sigma0); });
+    return guarded(s, args(sigma0), [&](gfmd::Simulation &m) { m.set_pressure(sigma0); });
 }
 
 int32_t gfmd_set_mean_displacement(gfmd_sim *s, double d) {
-    return guarded(s, [&](gfmd::Simulation &m) { m.set_mean_displacement(d); });
+    return guarded(s, args(d), [&](gfmd::Simulation &m) { m.set_mean_displacement(d); });
 }
 
 int32_t gfmd_get_mean_displacement(const gfmd_sim *s, double *d) {
-    return guarded(s, [&](const gfmd::Simulation &m) {
+    return guarded(s, args(d), [&](const gfmd::Simulation &m) {
         need(d, "d");
         *d = m.mean_displacement();
     });
 }
 
 int32_t gfmd_get_mean_pressure(const gfmd_sim *s, double *p) {
-    return guarded(s, [&](const gfmd::Simulation &m) {
+    return guarded(s, args(p), [&](const gfmd::Simulation &m) {
         need(p, "p");
         *p = m.mean_pressure();
     });
 }
 
 int32_t gfmd_set_adhesion(gfmd_sim *s, double gamma0, double rho) {
-    return guarded(s, [&](gfmd::Simulation &m) { m.set_adhesion(gamma0, rho); });
+    return guarded(s, args(gamma0, rho), [&](gfmd::Simulation &m) { m.set_adhesion(gamma0, rho); });
 }
 
 int32_t gfmd_set_timestep(gfmd_sim *s, double dt) {
-    return guarded(s, [&](gfmd::Simulation &m) { m.set_timestep(dt); });
+    return guarded(s, args(dt), [&](gfmd::Simulation &m) { m.set_timestep(dt); });
 }
 
 int32_t gfmd_set_damping(gfmd_sim *s, double eta) {
-    return guarded(s, [&](gfmd::Simulation &m) { m.set_damping(eta); });
+    return guarded(s, args(eta), [&](gfmd::Simulation &m) { m.set_damping(eta); });
 }
 
 int32_t gfmd_set_solver(gfmd_sim *s, int32_t solver) {
-    return guarded(s, [&](gfmd::Simulation &m) { m.set_solver(solver); });
+    return guarded(s, args(solver), [&](gfmd::Simulation &m) { m.set_solver(solver); });
 }
 
 int32_t gfmd_set_threads(gfmd_sim *s, int32_t nthreads) {
-    return guarded(s, [&](gfmd::Simulation &m) { m.set_threads(nthreads); });
+    return guarded(s, args(nthreads), [&](gfmd::Simulation &m) { m.set_threads(nthreads); });
 }
 
 int32_t gfmd_get_solver(const gfmd_sim *s, int32_t *solver) {
-    return guarded(s, [&](const gfmd::Simulation &m) {
+    return guarded(s, args(solver), [&](const gfmd::Simulation &m) {
         need(solver, "solver");
         *solver = m.active_solver();
     });
 }
 
 int32_t gfmd_get_threads(const gfmd_sim *s, int32_t *nthreads) {
-    return guarded(s, [&](const gfmd::Simulation &m) {
+    return guarded(s, args(nthreads), [&](const gfmd::Simulation &m) {
         need(nthreads, "nthreads");
         *nthreads = m.grid().threads();
     });
 }
 
 int32_t gfmd_set_fft_planner(gfmd_sim *s, int32_t planner) {
-    return guarded(s, [&](gfmd::Simulation &m) { m.set_planner(planner); });
+    return guarded(s, args(planner), [&](gfmd::Simulation &m) { m.set_planner(planner); });
 }
 
 int32_t gfmd_import_wisdom(const char *path) {
@@ -311,14 +268,14 @@ int32_t gfmd_export_wisdom(const char *path) {
 }
 
 int32_t gfmd_get_dynamics(const gfmd_sim *s, double *dt, double *eta) {
-    return guarded(s, [&](const gfmd::Simulation &m) {
+    return guarded(s, args(dt, eta), [&](const gfmd::Simulation &m) {
         if (dt) *dt = m.dynamics().dt;
         if (eta) *eta = m.dynamics().eta;
     });
 }
 
 int32_t gfmd_step(gfmd_sim *s, int64_t nsteps) {
-    return guarded(s, [&](gfmd::Simulation &m) {
+    return guarded(s, args(nsteps), [&](gfmd::Simulation &m) {
         if (nsteps < 0) fail(GFMD_ERR_INVALID_ARG, "nsteps must be >= 0, got " + std::to_string(nsteps));
         m.step(nsteps);
     });
@@ -330,7 +287,7 @@ int32_t gfmd_restart_solver(gfmd_sim *s) {
 
 int32_t gfmd_relax_multilevel(gfmd_sim *s, double tol, int64_t max_steps, int32_t levels, int64_t *steps_taken,
                               int64_t *coarse_steps) {
-    return guarded(s, [&](gfmd::Simulation &m) {
+    return guarded(s, args(tol, max_steps, levels, steps_taken, coarse_steps), [&](gfmd::Simulation &m) {
         relax_call(m, tol, max_steps, steps_taken, [&](double t, int64_t &taken) {
             int64_t below = 0;
             const bool ok = m.relax_multilevel(t, max_steps, levels, taken, below);
@@ -341,14 +298,14 @@ int32_t gfmd_relax_multilevel(gfmd_sim *s, double tol, int64_t max_steps, int32_
 }
 
 int32_t gfmd_relax(gfmd_sim *s, double tol, int64_t max_steps, int64_t *steps_taken) {
-    return guarded(s, [&](gfmd::Simulation &m) {
+    return guarded(s, args(tol, max_steps, steps_taken), [&](gfmd::Simulation &m) {
         relax_call(m, tol, max_steps, steps_taken,
                    [&](double t, int64_t &taken) { return m.relax(t, max_steps, taken); });
     });
 }
 
 int32_t gfmd_get_residual(const gfmd_sim *s, double *residual) {
-    return guarded(s, [&](const gfmd::Simulation &m) {
+    return guarded(s, args(residual), [&](const gfmd::Simulation &m) {
         need(residual, "residual");
         *residual = m.forces().residual;
     });
@@ -359,21 +316,21 @@ int32_t gfmd_reset(gfmd_sim *s) {
 }
 
 int32_t gfmd_get_contact_area(const gfmd_sim *s, double *rel_area) {
-    return guarded(s, [&](const gfmd::Simulation &m) {
+    return guarded(s, args(rel_area), [&](const gfmd::Simulation &m) {
         need(rel_area, "rel_area");
         *rel_area = m.contact_area();
     });
 }
 
 int32_t gfmd_get_mean_gap(const gfmd_sim *s, double *mean_gap) {
-    return guarded(s, [&](const gfmd::Simulation &m) {
+    return guarded(s, args(mean_gap), [&](const gfmd::Simulation &m) {
         need(mean_gap, "mean_gap");
         *mean_gap = m.mean_gap();
     });
 }
 
 int32_t gfmd_get_energies(const gfmd_sim *s, double *elastic, double *adhesive) {
-    return guarded(s, [&](const gfmd::Simulation &m) {
+    return guarded(s, args(elastic, adhesive), [&](const gfmd::Simulation &m) {
         need(elastic, "elastic");
         need(adhesive, "adhesive");
         *elastic = m.forces().u_el;
@@ -382,35 +339,38 @@ int32_t gfmd_get_energies(const gfmd_sim *s, double *elastic, double *adhesive) 
 }
 
 int32_t gfmd_get_gap(const gfmd_sim *s, double *gap) {
-    return guarded(s, [&](const gfmd::Simulation &m) {
+    return guarded(s, args(gap), [&](const gfmd::Simulation &m) {
         need(gap, "gap");
+        whole_grid(m, "gfmd_mpi_get_local_gap");
         m.gap(gap);
     });
 }
 
 int32_t gfmd_get_surface(const gfmd_sim *s, double *z) {
-    return guarded(s, [&](const gfmd::Simulation &m) {
+    return guarded(s, args(z), [&](const gfmd::Simulation &m) {
         need(z, "z");
+        whole_grid(m, "gfmd_mpi_get_local_surface");
         m.surface(z);
     });
 }
 
 int32_t gfmd_get_pressure(const gfmd_sim *s, double *p) {
-    return guarded(s, [&](const gfmd::Simulation &m) {
+    return guarded(s, args(p), [&](const gfmd::Simulation &m) {
         need(p, "p");
+        whole_grid(m, "gfmd_mpi_get_local_pressure");
         m.pressure(p);
     });
 }
 
 int32_t gfmd_persson_variance(const gfmd_sim *s, double *variance) {
-    return guarded(s, [&](const gfmd::Simulation &m) {
+    return guarded(s, args(variance), [&](const gfmd::Simulation &m) {
         need(variance, "variance");
         *variance = m.persson_variance();
     });
 }
 
 int32_t gfmd_persson_contact_area(const gfmd_sim *s, double sigma0, double *rel_area) {
-    return guarded(s, [&](const gfmd::Simulation &m) {
+    return guarded(s, args(sigma0, rel_area), [&](const gfmd::Simulation &m) {
         need(rel_area, "rel_area");
         *rel_area = m.persson_contact_area(sigma0);
     });

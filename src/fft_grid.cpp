@@ -80,6 +80,7 @@ const Distribution *FftGrid::distribution() const { return nullptr; }
 void FftGrid::reduce_exact(ExactSum *, int) const {}
 void FftGrid::reduce_max(double *, int) const {}
 int32_t FftGrid::agree(int32_t status, std::string &) const { return status; }
+bool FftGrid::same_on_all_ranks(uint64_t) const { return true; }
 void FftGrid::forward_distributed(const double *, std::complex<double> *) const {}
 void FftGrid::backward_distributed(std::complex<double> *, double *) const {}
 void FftGrid::distribute(const Distribution *) {}

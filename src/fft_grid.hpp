@@ -117,6 +117,8 @@ public:
     // Every rank learns the first failure: status != 0 on any rank gives every rank the status
     // and message of the lowest failing rank (serial: unchanged).  Returns the agreed status.
     int32_t agree(int32_t status, std::string &message) const;
+    // True if every rank passed the same fingerprint (serial: true).  Collective.
+    bool same_on_all_ranks(uint64_t fingerprint) const;
     // Runs check() (validation of this rank's data) so that either every rank goes on or every
     // rank throws the first failure: no rank is left waiting in a collective for one that threw.
     template <class Check>

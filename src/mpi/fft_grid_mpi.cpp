@@ -1,0 +1,228 @@
+// The distributed grid (libgfmd_mpi): one slab of rows per rank, FFTW's MPI transforms.
+//
+// FFTW-MPI's transposed layout is the one whose bits do not depend on the number of ranks
+// (measured for np = 1..8, ../shared/designs/mpi.md): r2c with TRANSPOSED_OUT leaves kx columns
+// of ny modes on each rank.  The library's loops, shared with the serial build, want the slab's
+// own ky rows of nxh modes, so an exact FFTW-MPI transpose (data movement only) brings the
+// spectrum back to rows after the forward transform and to columns before the backward one.
+// The real side is copied into FFTW-MPI's padded rows (2 (nx/2 + 1) doubles) and out again, so
+// the library's own arrays stay unpadded (x fastest, rows of nx).  The cost is two more global
+// transposes per pair than a column-aware core would need; the bits are the transposed layout's.
+#include <algorithm>
+#include <climits>
+#include <cstring>
+#include <mutex>
+#include <string>
+
+#include "../error.hpp"
+#include "../fft_grid.hpp"
+#include "../fftw_planner.hpp"
+#include "mpi_state.hpp"
+
+namespace gfmd {
+
+void check_mpi(int rc, const char *what) {
+    if (rc == MPI_SUCCESS) return;
+    char text[MPI_MAX_ERROR_STRING];
+    int len = 0;
+    if (MPI_Error_string(rc, text, &len) != MPI_SUCCESS) len = 0;
+    fail(GFMD_ERR_MPI, std::string(what) + " failed: " + std::string(text, static_cast<std::size_t>(len)));
+}
+
+namespace {
+
+// FFTW-MPI initialized once per process, after FFTW's threads.  Call with the planner mutex held.
+void mpi_ready() {
+    static const bool ready = [] {
+        threads_ready();
+        fftw_mpi_init();
+        return true;
+    }();
+    (void)ready;
+}
+
+constexpr ptrdiff_t kBlock = FFTW_MPI_DEFAULT_BLOCK;
+
+}  // namespace
+
+MpiState::~MpiState() {
+    destroy_plans();
+    if (dist.comm != MPI_COMM_NULL) MPI_Comm_free(&dist.comm);
+}
+
+void MpiState::destroy_plans() {
+    std::lock_guard<std::mutex> lock(planner_mutex());
+    for (fftw_plan *p : {&r2c, &c2r, &to_rows, &to_columns}) {
+        if (*p != nullptr) fftw_destroy_plan(*p);
+        *p = nullptr;
+    }
+}
+
+const Distribution *FftGrid::distribution() const { return mpi_ ? &mpi_->dist : nullptr; }
+
+void FftGrid::distribute(const Distribution *dist) {
+    auto st = std::make_unique<MpiState>();
+    check_mpi(MPI_Comm_dup(dist->comm, &st->dist.comm), "MPI_Comm_dup");
+    // Errors of the grid's own communicator come back as codes (GFMD_ERR_MPI), not as an abort.
+    check_mpi(MPI_Comm_set_errhandler(st->dist.comm, MPI_ERRORS_RETURN), "MPI_Comm_set_errhandler");
+    check_mpi(MPI_Comm_size(st->dist.comm, &ranks_), "MPI_Comm_size");
+    check_mpi(MPI_Comm_rank(st->dist.comm, &rank_), "MPI_Comm_rank");
+    const ptrdiff_t n[2] = {static_cast<ptrdiff_t>(ny_), static_cast<ptrdiff_t>(nx_)};
+    const ptrdiff_t spectrum[2] = {static_cast<ptrdiff_t>(ny_), static_cast<ptrdiff_t>(nxh())};
+    const ptrdiff_t columns[2] = {static_cast<ptrdiff_t>(nxh()), static_cast<ptrdiff_t>(ny_)};
+    ptrdiff_t rows = 0, y0 = 0, cols = 0, kx0 = 0, trows = 0, ty0 = 0, tcols = 0, tkx0 = 0;
+    ptrdiff_t alloc = 0, talloc = 0;
+    {
+        std::lock_guard<std::mutex> lock(planner_mutex());
+        mpi_ready();
+        alloc = fftw_mpi_local_size_many_transposed(2, spectrum, 1, kBlock, kBlock, st->dist.comm, &rows, &y0, &cols, &kx0);
+        // The transpose of the spectrum (nxh x ny, two doubles a mode) back to rows.
+        talloc = fftw_mpi_local_size_many_transposed(2, columns, 2, kBlock, kBlock, st->dist.comm, &tcols, &tkx0,
+                                                     &trows, &ty0);
+    }
+    (void)n;
+    if (tcols != cols || tkx0 != kx0 || trows != rows || (rows > 0 && ty0 != y0))
+        fail(GFMD_ERR_INTERNAL, "FFTW-MPI's transpose splits the grid unlike its transform");
+    local_rows_ = rows;
+    first_row_ = rows > 0 ? y0 : std::min<int64_t>(y0, ny_);
+    complex_size_ = std::max<int64_t>({alloc, (talloc + 1) / 2, rows * nxh(), 1});
+    st->padded = RealBuffer(static_cast<std::size_t>(2 * complex_size_));
+    st->columns = ComplexBuffer(static_cast<std::size_t>(complex_size_));
+    st->rows_of.assign(static_cast<std::size_t>(ranks_), 0);
+    st->first_row_of.assign(static_cast<std::size_t>(ranks_), 0);
+    const int mine[2] = {static_cast<int>(local_rows_), static_cast<int>(first_row_)};
+    std::vector<int> all(2 * static_cast<std::size_t>(ranks_));
+    check_mpi(MPI_Allgather(mine, 2, MPI_INT, all.data(), 2, MPI_INT, st->dist.comm), "MPI_Allgather");
+    for (int r = 0; r < ranks_; ++r) {
+        st->rows_of[static_cast<std::size_t>(r)] = all[2 * static_cast<std::size_t>(r)];
+        st->first_row_of[static_cast<std::size_t>(r)] = all[2 * static_cast<std::size_t>(r) + 1];
+    }
+    mpi_ = std::move(st);
+    replan_distributed(*pool_, planner_);
+}
+
+void FftGrid::replan_distributed(ThreadPool &pool, int32_t planner) {
+    MpiState &st = *mpi_;
+    const ptrdiff_t n[2] = {static_cast<ptrdiff_t>(ny_), static_cast<ptrdiff_t>(nx_)};
+    const unsigned flags = planner_flags(planner);
+    ComplexBuffer rows(static_cast<std::size_t>(complex_size_));  // a stand-in for the callers' arrays
+    auto *cols = reinterpret_cast<fftw_complex *>(st.columns.data());
+    fftw_plan made[4] = {nullptr, nullptr, nullptr, nullptr};
+    {
+        std::lock_guard<std::mutex> lock(planner_mutex());
+        fftw_plan_with_nthreads(real_size() >= kMinPointsForThreads ? pool.size() : 1);
+        PoolScope scope(&pool);
+        WisdomAside aside(planner == GFMD_PLANNER_ESTIMATE);
+        made[0] = fftw_mpi_plan_many_dft_r2c(2, n, 1, kBlock, kBlock, st.padded.data(), cols, st.dist.comm,
+                                             flags | FFTW_MPI_TRANSPOSED_OUT);
+        made[1] = fftw_mpi_plan_many_dft_c2r(2, n, 1, kBlock, kBlock, cols, st.padded.data(), st.dist.comm,
+                                             flags | FFTW_MPI_TRANSPOSED_IN);
+        made[2] = fftw_mpi_plan_many_transpose(nxh(), ny_, 2, kBlock, kBlock, reinterpret_cast<double *>(cols),
+                                               reinterpret_cast<double *>(rows.data()), st.dist.comm, flags);
+        made[3] = fftw_mpi_plan_many_transpose(ny_, nxh(), 2, kBlock, kBlock, reinterpret_cast<double *>(rows.data()),
+                                               reinterpret_cast<double *>(cols), st.dist.comm, flags);
+    }
+    // Planning is collective: a rank whose planner failed must not leave the others with plans.
+    int ok = (made[0] && made[1] && made[2] && made[3]) ? 1 : 0, all_ok = 0;
+    const int rc = MPI_Allreduce(&ok, &all_ok, 1, MPI_INT, MPI_MIN, st.dist.comm);
+    if (rc != MPI_SUCCESS || all_ok == 0) {
+        std::lock_guard<std::mutex> lock(planner_mutex());
+        for (fftw_plan p : made)
+            if (p != nullptr) fftw_destroy_plan(p);
+        check_mpi(rc, "MPI_Allreduce");
+        throw std::bad_alloc();
+    }
+    st.destroy_plans();
+    st.r2c = made[0];
+    st.c2r = made[1];
+    st.to_rows = made[2];
+    st.to_columns = made[3];
+}
+
+void FftGrid::forward_distributed(const double *in, std::complex<double> *out) const {
+    MpiState &st = *mpi_;
+    const int64_t pad = 2 * nxh();
+    double *padded = st.padded.data();
+    for_mode_rows([&](int64_t r0, int64_t r1) {
+        for (int64_t r = r0; r < r1; ++r) std::memcpy(padded + r * pad, in + r * nx_, static_cast<std::size_t>(nx_) * sizeof(double));
+    });
+    PoolScope scope(pool_.get());
+    fftw_mpi_execute_dft_r2c(st.r2c, padded, reinterpret_cast<fftw_complex *>(st.columns.data()));
+    fftw_mpi_execute_r2r(st.to_rows, reinterpret_cast<double *>(st.columns.data()), reinterpret_cast<double *>(out));
+}
+
+void FftGrid::backward_distributed(std::complex<double> *in, double *out) const {
+    MpiState &st = *mpi_;
+    PoolScope scope(pool_.get());
+    fftw_mpi_execute_r2r(st.to_columns, reinterpret_cast<double *>(in), reinterpret_cast<double *>(st.columns.data()));
+    fftw_mpi_execute_dft_c2r(st.c2r, reinterpret_cast<fftw_complex *>(st.columns.data()), st.padded.data());
+    const int64_t pad = 2 * nxh();
+    const double *padded = st.padded.data();
+    for_mode_rows([&](int64_t r0, int64_t r1) {
+        for (int64_t r = r0; r < r1; ++r) std::memcpy(out + r * nx_, padded + r * pad, static_cast<std::size_t>(nx_) * sizeof(double));
+    });
+}
+
+void FftGrid::reduce_exact(ExactSum *x, int k) const {
+    if (!mpi_) return;
+    std::vector<int64_t> words(static_cast<std::size_t>(k) * ExactSum::kWords);
+    for (int i = 0; i < k; ++i) {
+        x[i].normalize();
+        std::copy(x[i].words(), x[i].words() + ExactSum::kWords, words.data() + i * ExactSum::kWords);
+    }
+    check_mpi(MPI_Allreduce(MPI_IN_PLACE, words.data(), static_cast<int>(words.size()), MPI_INT64_T, MPI_SUM,
+                            mpi_->dist.comm),
+              "MPI_Allreduce");
+    for (int i = 0; i < k; ++i) std::copy(words.data() + i * ExactSum::kWords, words.data() + (i + 1) * ExactSum::kWords, x[i].words());
+}
+
+void FftGrid::reduce_max(double *x, int k) const {
+    if (!mpi_) return;
+    check_mpi(MPI_Allreduce(MPI_IN_PLACE, x, k, MPI_DOUBLE, MPI_MAX, mpi_->dist.comm), "MPI_Allreduce");
+}
+
+int32_t FftGrid::agree(int32_t status, std::string &message) const {
+    if (!mpi_) return status;
+    return agree_on(mpi_->dist.comm, status, message);
+}
+
+bool FftGrid::same_on_all_ranks(uint64_t fingerprint) const {
+    uint64_t v[2] = {fingerprint, ~fingerprint};  // max of both: equal everywhere iff max = -min
+    if (MPI_Allreduce(MPI_IN_PLACE, v, 2, MPI_UINT64_T, MPI_MAX, mpi_->dist.comm) != MPI_SUCCESS) return false;
+    return v[0] == ~v[1];
+}
+
+void FftGrid::gather_column0_distributed(const std::complex<double> *local, std::complex<double> *all) const {
+    MpiState &st = *mpi_;
+    std::vector<std::complex<double>> mine(static_cast<std::size_t>(local_rows_));
+    for (int64_t r = 0; r < local_rows_; ++r) mine[static_cast<std::size_t>(r)] = local[r * nxh()];
+    check_mpi(MPI_Allgatherv(mine.data(), static_cast<int>(local_rows_), MPI_C_DOUBLE_COMPLEX, all, st.rows_of.data(),
+                             st.first_row_of.data(), MPI_C_DOUBLE_COMPLEX, st.dist.comm),
+              "MPI_Allgatherv");
+}
+
+int32_t agree_on(MPI_Comm comm, int32_t status, std::string &message) noexcept {
+    int rank = 0, ranks = 1;
+    if (MPI_Comm_rank(comm, &rank) != MPI_SUCCESS || MPI_Comm_size(comm, &ranks) != MPI_SUCCESS) return GFMD_ERR_MPI;
+    const int mine = (status != 0) ? rank : ranks;
+    int first = ranks;
+    if (MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm) != MPI_SUCCESS) return GFMD_ERR_MPI;
+    if (first == ranks) return 0;
+    int32_t agreed = status;
+    try {
+        int len = static_cast<int>(std::min<std::size_t>(message.size(), 4096));
+        if (MPI_Bcast(&agreed, 1, MPI_INT32_T, first, comm) != MPI_SUCCESS ||
+            MPI_Bcast(&len, 1, MPI_INT, first, comm) != MPI_SUCCESS)
+            return GFMD_ERR_MPI;
+        std::string text = (rank == first) ? message.substr(0, static_cast<std::size_t>(len))
+                                           : std::string(static_cast<std::size_t>(len), ' ');
+        if (MPI_Bcast(&text[0], len, MPI_CHAR, first, comm) != MPI_SUCCESS) return GFMD_ERR_MPI;
+        if (rank != first) message = "rank " + std::to_string(first) + ": " + text;
+        else message = "rank " + std::to_string(first) + ": " + message;
+    } catch (...) {
+        // no memory for the message: every rank still has the status
+    }
+    return agreed;
+}
+
+}  // namespace gfmd
