@@ -41,7 +41,7 @@ void mpi_ready() {
     (void)ready;
 }
 
-constexpr ptrdiff_t kBlock = FFTW_MPI_DEFAULT_BLOCK;
+constexpr ptrdiff_t kMpiBlock = FFTW_MPI_DEFAULT_BLOCK;
 
 }  // namespace
 
@@ -75,9 +75,9 @@ void FftGrid::distribute(const Distribution *dist) {
     {
         std::lock_guard<std::mutex> lock(planner_mutex());
         mpi_ready();
-        alloc = fftw_mpi_local_size_many_transposed(2, spectrum, 1, kBlock, kBlock, st->dist.comm, &rows, &y0, &cols, &kx0);
+        alloc = fftw_mpi_local_size_many_transposed(2, spectrum, 1, kMpiBlock, kMpiBlock, st->dist.comm, &rows, &y0, &cols, &kx0);
         // The transpose of the spectrum (nxh x ny, two doubles a mode) back to rows.
-        talloc = fftw_mpi_local_size_many_transposed(2, columns, 2, kBlock, kBlock, st->dist.comm, &tcols, &tkx0,
+        talloc = fftw_mpi_local_size_many_transposed(2, columns, 2, kMpiBlock, kMpiBlock, st->dist.comm, &tcols, &tkx0,
                                                      &trows, &ty0);
     }
     (void)n;
@@ -113,13 +113,13 @@ void FftGrid::replan_distributed(ThreadPool &pool, int32_t planner) {
         fftw_plan_with_nthreads(real_size() >= kMinPointsForThreads ? pool.size() : 1);
         PoolScope scope(&pool);
         WisdomAside aside(planner == GFMD_PLANNER_ESTIMATE);
-        made[0] = fftw_mpi_plan_many_dft_r2c(2, n, 1, kBlock, kBlock, st.padded.data(), cols, st.dist.comm,
+        made[0] = fftw_mpi_plan_many_dft_r2c(2, n, 1, kMpiBlock, kMpiBlock, st.padded.data(), cols, st.dist.comm,
                                              flags | FFTW_MPI_TRANSPOSED_OUT);
-        made[1] = fftw_mpi_plan_many_dft_c2r(2, n, 1, kBlock, kBlock, cols, st.padded.data(), st.dist.comm,
+        made[1] = fftw_mpi_plan_many_dft_c2r(2, n, 1, kMpiBlock, kMpiBlock, cols, st.padded.data(), st.dist.comm,
                                              flags | FFTW_MPI_TRANSPOSED_IN);
-        made[2] = fftw_mpi_plan_many_transpose(nxh(), ny_, 2, kBlock, kBlock, reinterpret_cast<double *>(cols),
+        made[2] = fftw_mpi_plan_many_transpose(nxh(), ny_, 2, kMpiBlock, kMpiBlock, reinterpret_cast<double *>(cols),
                                                reinterpret_cast<double *>(rows.data()), st.dist.comm, flags);
-        made[3] = fftw_mpi_plan_many_transpose(ny_, nxh(), 2, kBlock, kBlock, reinterpret_cast<double *>(rows.data()),
+        made[3] = fftw_mpi_plan_many_transpose(ny_, nxh(), 2, kMpiBlock, kMpiBlock, reinterpret_cast<double *>(rows.data()),
                                                reinterpret_cast<double *>(cols), st.dist.comm, flags);
     }
     // Planning is collective: a rank whose planner failed must not leave the others with plans.

@@ -1,0 +1,48 @@
+# libgfmd_mpi (GFMD_BUILD_MPI): the serial library's core and C API compiled again with GFMD_MPI,
+# plus the distributed grid and gfmd_mpi.h.  It exports every gfmd_* symbol of libgfmd and its
+# own (abi/gfmd_mpi.symbols): a program links one of the two.  libgfmd itself never sees MPI.
+find_package(MPI REQUIRED COMPONENTS C CXX)
+# Debian ships no pkg-config file for FFTW's MPI library: find it beside libfftw3.
+find_library(FFTW3_MPI_LIBRARY NAMES fftw3_mpi HINTS ${FFTW3_LIBRARY_DIRS} REQUIRED)
+find_path(FFTW3_MPI_INCLUDE_DIR fftw3-mpi.h HINTS ${FFTW3_INCLUDE_DIRS} REQUIRED)
+
+add_library(gfmd_mpi ${GFMD_CORE_SOURCES} src/mpi/fft_grid_mpi.cpp src/mpi/c_api_mpi.cpp)
+add_library(gfmd::mpi ALIAS gfmd_mpi)
+target_compile_definitions(gfmd_mpi PRIVATE GFMD_MPI)
+set_target_properties(gfmd_mpi PROPERTIES
+  VERSION ${PROJECT_VERSION}
+  SOVERSION ${PROJECT_VERSION_MAJOR}
+  CXX_VISIBILITY_PRESET hidden
+  VISIBILITY_INLINES_HIDDEN ON
+  INSTALL_RPATH "$ORIGIN")
+if(NOT BUILD_SHARED_LIBS)
+  target_compile_definitions(gfmd_mpi PUBLIC GFMD_STATIC_DEFINE)
+endif()
+target_include_directories(gfmd_mpi PUBLIC
+  $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
+  $<BUILD_INTERFACE:${GFMD_GENERATED_INCLUDE}>
+  $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+target_include_directories(gfmd_mpi PRIVATE ${FFTW3_MPI_INCLUDE_DIR})
+# gfmd_mpi.h includes mpi.h: consumers get MPI's include path and library through the target.
+target_link_libraries(gfmd_mpi PUBLIC MPI::MPI_C)
+target_link_libraries(gfmd_mpi PRIVATE ${FFTW3_MPI_LIBRARY} ${FFTW3_OMP_LIBRARY} PkgConfig::FFTW3 PkgConfig::LAPACKE
+  OpenMP::OpenMP_CXX MPI::MPI_CXX m)
+target_compile_options(gfmd_mpi PRIVATE $<$<CXX_COMPILER_ID:GNU,Clang>:-Wall -Wextra -Wpedantic -Wshadow>)
+target_compile_options(gfmd_mpi PRIVATE $<$<CXX_COMPILER_ID:Clang>:-Wno-pass-failed>)
+if(BUILD_SHARED_LIBS)
+  target_link_options(gfmd_mpi PRIVATE -Wl,--version-script=${CMAKE_CURRENT_SOURCE_DIR}/src/gfmd.map)
+  set_property(TARGET gfmd_mpi APPEND PROPERTY LINK_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/gfmd.map)
+  if(NOT GFMD_FUZZ)
+    target_link_options(gfmd_mpi PRIVATE -Wl,--no-undefined)
+  endif()
+endif()
+
+install(TARGETS gfmd_mpi EXPORT gfmdMPITargets
+  LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+  ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+  RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
+  INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+install(FILES include/gfmd_mpi.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+install(EXPORT gfmdMPITargets NAMESPACE gfmd:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/gfmd)
+configure_file(cmake/gfmd-mpi.pc.in ${CMAKE_CURRENT_BINARY_DIR}/gfmd-mpi.pc @ONLY)
+install(FILES ${CMAKE_CURRENT_BINARY_DIR}/gfmd-mpi.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)

@@ -1,0 +1,173 @@
+// The C API of gfmd_mpi.h: distributed handles (the rest of the API is c_api.cpp, shared with the
+// serial library).
+#include <algorithm>
+#include <cstring>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "../c_api_support.hpp"
+#include "../fft_grid.hpp"
+#include "../fields.hpp"
+#include "../fftw_planner.hpp"
+#include "../simulation.hpp"
+#include "gfmd_mpi.h"
+#include "mpi_state.hpp"
+
+namespace {
+
+using gfmd::fail;
+using gfmd::capi::need;
+using gfmd::capi::status_of;
+
+void need_mpi() {
+    int up = 0, down = 0;
+    if (MPI_Initialized(&up) != MPI_SUCCESS || MPI_Finalized(&down) != MPI_SUCCESS || !up || down)
+        fail(GFMD_ERR_STATE, "MPI is not initialized (or already finalized): call MPI_Init first");
+}
+
+// This rank's slab of an nx x ny grid on comm, as the distributed grid will split it.
+void slab(MPI_Comm comm, int64_t nx, int64_t ny, int64_t &local_ny, int64_t &y0) {
+    const ptrdiff_t n[2] = {static_cast<ptrdiff_t>(ny), static_cast<ptrdiff_t>(nx / 2 + 1)};
+    ptrdiff_t rows = 0, first = 0, cols = 0, kx0 = 0;
+    {
+        std::lock_guard<std::mutex> lock(gfmd::planner_mutex());
+        gfmd::threads_ready();
+        fftw_mpi_init();
+        fftw_mpi_local_size_many_transposed(2, n, 1, FFTW_MPI_DEFAULT_BLOCK, FFTW_MPI_DEFAULT_BLOCK, comm, &rows,
+                                            &first, &cols, &kx0);
+    }
+    local_ny = rows;
+    y0 = rows > 0 ? first : std::min<int64_t>(first, ny);
+}
+
+// The local rows of a field, from the contiguous local array `from`, into rows ld apart.
+void copy_rows(const gfmd::Simulation &m, const double *from, double *to, int64_t ld) {
+    const int64_t nx = m.grid().nx(), rows = m.grid().local_points() / std::max<int64_t>(nx, 1);
+    for (int64_t r = 0; r < rows; ++r) std::memcpy(to + r * ld, from + r * nx, static_cast<std::size_t>(nx) * sizeof(double));
+}
+
+// A local field getter: get(contiguous local array) then the rows copied out ld apart.
+template <class Get>
+int32_t local_field(const gfmd_sim *s, double *out, int64_t ld, const char *name, Get &&get) noexcept {
+    if (s == nullptr || !s->sim) return GFMD_ERR_NULL;
+    return status_of(
+        [&] {
+            const gfmd::Simulation &m = *s->sim;
+            if (ld < m.grid().nx())
+                fail(GFMD_ERR_INVALID_ARG, "ld = " + std::to_string(ld) + " is below nx = " + std::to_string(m.grid().nx()));
+            if (m.grid().local_points() == 0) return;  // a rank without rows: nothing to write
+            need(out, name);
+            if (ld == m.grid().nx()) return get(m, out);
+            std::vector<double> local(static_cast<std::size_t>(m.grid().local_points()));
+            get(m, local.data());
+            copy_rows(m, local.data(), out, ld);
+        },
+        [s](const char *msg) { gfmd::capi::record(s, msg); });
+}
+
+}  // namespace
+
+extern "C" {
+
+int32_t gfmd_mpi_local_size(MPI_Comm comm, int64_t nx, int64_t ny, int64_t *local_ny, int64_t *y0) {
+    if (local_ny == nullptr || y0 == nullptr) return GFMD_ERR_NULL;
+    return status_of([&] {
+        need_mpi();
+        gfmd::validate_grid(nx, ny, 1.0, 1.0);
+        slab(comm, nx, ny, *local_ny, *y0);
+    }, [](const char *) {});
+}
+
+int32_t gfmd_sim_create_mpi(MPI_Comm comm, int64_t nx, int64_t ny, double lx, double ly, int32_t planner,
+                            gfmd_sim **out) {
+    if (out == nullptr) return GFMD_ERR_NULL;
+    *out = nullptr;
+    int up = 0, down = 0;
+    if (MPI_Initialized(&up) != MPI_SUCCESS || MPI_Finalized(&down) != MPI_SUCCESS || !up || down)
+        return GFMD_ERR_STATE;  // no communication possible: every rank sees the same
+    std::string message;
+    // Checked everywhere before anything collective: the arguments agree, the slab fits.
+    int32_t status = status_of([&] {
+        gfmd::validate_grid(nx, ny, lx, ly);
+        gfmd::validate_planner(planner);
+        int64_t rows = 0, y0 = 0;
+        slab(comm, nx, ny, rows, y0);
+        gfmd::check_memory(nx, std::max<int64_t>(rows, 1));
+    }, [&](const char *msg) { message = msg; });
+    uint64_t print[2] = {gfmd::capi::args(nx, ny, lx, ly, planner), 0};
+    print[1] = ~print[0];
+    if (MPI_Allreduce(MPI_IN_PLACE, print, 2, MPI_UINT64_T, MPI_MAX, comm) != MPI_SUCCESS) return GFMD_ERR_MPI;
+    if (print[0] != ~print[1]) return GFMD_ERR_INVALID_ARG;  // the same on every rank
+    status = gfmd::agree_on(comm, status, message);
+    if (status != GFMD_OK) return status;
+    std::unique_ptr<gfmd_sim> handle;
+    status = status_of([&] {
+        handle = std::make_unique<gfmd_sim>();
+        const gfmd::Distribution dist{comm};
+        handle->sim = std::make_unique<gfmd::Simulation>(nx, ny, lx, ly, 0, planner, &dist);
+    }, [&](const char *msg) { message = msg; });
+    status = gfmd::agree_on(comm, status, message);
+    if (status != GFMD_OK) return status;  // a handle made on some ranks is destroyed on them
+    *out = handle.release();
+    return GFMD_OK;
+}
+
+int32_t gfmd_sim_create_mpi_f(MPI_Fint comm, int64_t nx, int64_t ny, double lx, double ly, int32_t planner,
+                              gfmd_sim **out) {
+    return gfmd_sim_create_mpi(MPI_Comm_f2c(comm), nx, ny, lx, ly, planner, out);
+}
+
+int32_t gfmd_mpi_get_local_grid(const gfmd_sim *s, int64_t *local_ny, int64_t *y0) {
+    if (s == nullptr || !s->sim) return GFMD_ERR_NULL;
+    if (local_ny == nullptr || y0 == nullptr) {
+        gfmd::capi::record(s, "argument 'local_ny' or 'y0' is NULL");
+        return GFMD_ERR_NULL;
+    }
+    const gfmd::FftGrid &g = s->sim->grid();
+    *local_ny = g.local_mode_rows();
+    *y0 = g.first_row();
+    return GFMD_OK;
+}
+
+int32_t gfmd_mpi_get_ranks(const gfmd_sim *s, int32_t *ranks) {
+    if (s == nullptr || !s->sim) return GFMD_ERR_NULL;
+    if (ranks == nullptr) {
+        gfmd::capi::record(s, "argument 'ranks' is NULL");
+        return GFMD_ERR_NULL;
+    }
+    *ranks = s->sim->grid().ranks();
+    return GFMD_OK;
+}
+
+int32_t gfmd_mpi_set_local_heights(gfmd_sim *s, const double *h, int64_t ld) {
+    // Not fingerprinted: h and ld may differ between ranks (a rank without rows may pass NULL).
+    return gfmd::capi::guarded(s, gfmd::capi::args(), [&](gfmd::Simulation &m) {
+        const int64_t nx = m.grid().nx(), points = m.grid().local_points();
+        std::vector<double> local;
+        m.grid().on_all_ranks([&] {
+            if (ld < nx) fail(GFMD_ERR_INVALID_ARG, "ld = " + std::to_string(ld) + " is below nx = " + std::to_string(nx));
+            if (points > 0) need(h, "h");
+            local.resize(static_cast<std::size_t>(points));
+            for (int64_t r = 0; r < points / std::max<int64_t>(nx, 1); ++r)
+                std::memcpy(local.data() + r * nx, h + r * ld, static_cast<std::size_t>(nx) * sizeof(double));
+        });
+        m.set_heights(local.data());
+    });
+}
+
+int32_t gfmd_mpi_get_local_heights(const gfmd_sim *s, double *h, int64_t ld) {
+    return local_field(s, h, ld, "h", [](const gfmd::Simulation &m, double *o) { m.heights(o); });
+}
+int32_t gfmd_mpi_get_local_surface(const gfmd_sim *s, double *z, int64_t ld) {
+    return local_field(s, z, ld, "z", [](const gfmd::Simulation &m, double *o) { m.surface(o); });
+}
+int32_t gfmd_mpi_get_local_gap(const gfmd_sim *s, double *gap, int64_t ld) {
+    return local_field(s, gap, ld, "gap", [](const gfmd::Simulation &m, double *o) { m.gap(o); });
+}
+int32_t gfmd_mpi_get_local_pressure(const gfmd_sim *s, double *p, int64_t ld) {
+    return local_field(s, p, ld, "p", [](const gfmd::Simulation &m, double *o) { m.pressure(o); });
+}
+
+}  // extern "C"

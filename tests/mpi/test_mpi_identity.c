@@ -1,0 +1,207 @@
+/* libgfmd_mpi, run under mpiexec with P processes: the same problem on communicators of 1, 2, ...,
+ * P ranks (subsets of MPI_COMM_WORLD) and on a serial handle of the same library, in one run.
+ *
+ *  - bits: surface, pressure and observables after 50 steps of each solver are identical for every
+ *    rank count (ESTIMATE planner, exact sums: gfmd_mpi.h's promise);
+ *  - serial vs distributed after <= 20 steps: fields within 1e-12 of max |field| (the two FFT
+ *    algorithms differ by about one ulp of the largest value per transform pair, measured
+ *    ../shared/designs/mpi.md; 20 steps amplify that by at most the dynamics' stable factor);
+ *  - relaxed to tol 1e-10: A/A0, mean gap and energies within 1e-9 relative of the serial handle
+ *    (a converged state is a property of the problem, not of the path; 1e-9 is the issue's bound,
+ *    the measured differences are printed).
+ * Grids include odd and non-square sizes and one where a rank owns no rows (ny = 6 on 4 ranks). */
+#include <gfmd_mpi.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int failures = 0;
+static int world_rank = 0;
+
+#define CHECK(cond, ...)                                                \
+    do {                                                                \
+        if (!(cond)) {                                                  \
+            ++failures;                                                 \
+            fprintf(stderr, "rank %d, %s:%d: ", world_rank, __FILE__, __LINE__); \
+            fprintf(stderr, __VA_ARGS__);                               \
+            fprintf(stderr, "\n");                                      \
+        }                                                               \
+    } while (0)
+
+#define OK(call) CHECK((call) == GFMD_OK, "%s failed", #call)
+
+typedef struct {
+    const char *name;
+    int64_t nx, ny;
+    int32_t kind;      /* GFMD_GREEN_* */
+    double width, nu;  /* layer */
+    int32_t solver;
+    double gamma0;     /* adhesion (rho = 1) */
+    double sigma0;
+} Case;
+
+/* The whole result of a run on rank 0 of its communicator: fields (nx*ny each) + observables. */
+typedef struct {
+    double *z, *p;
+    double obs[5]; /* A/A0, mean gap, U_el, U_ad, residual */
+} Result;
+
+static void setup(gfmd_sim *s, const Case *c) {
+    if (c->kind == GFMD_GREEN_LAYER_BONDED) OK(gfmd_set_poisson(s, c->nu));
+    if (c->kind != GFMD_GREEN_HALFSPACE) OK(gfmd_set_green(s, c->kind, c->width));
+    OK(gfmd_generate_selfaffine(s, 0.8, (double)c->nx / 2.0, 4.0, 0.1, 7, GFMD_DIST_UNIFORM));
+    OK(gfmd_set_solver(s, c->solver));
+    if (c->gamma0 > 0.0) OK(gfmd_set_adhesion(s, c->gamma0, 1.0));
+    OK(gfmd_set_pressure(s, c->sigma0));
+}
+
+static void observe(gfmd_sim *s, double *obs) {
+    OK(gfmd_get_contact_area(s, &obs[0]));
+    OK(gfmd_get_mean_gap(s, &obs[1]));
+    OK(gfmd_get_energies(s, &obs[2], &obs[3]));
+    OK(gfmd_get_residual(s, &obs[4]));
+}
+
+/* Gathers a distributed handle's local field to rank 0 of comm. */
+static void gather(MPI_Comm comm, gfmd_sim *s, const Case *c, int (*get)(const gfmd_sim *, double *, int64_t),
+                   double *all) {
+    int rank = 0, size = 0;
+    MPI_Comm_rank(comm, &rank);
+    MPI_Comm_size(comm, &size);
+    int64_t rows = 0, y0 = 0;
+    OK(gfmd_mpi_get_local_grid(s, &rows, &y0));
+    double *mine = malloc(sizeof(double) * (size_t)(rows * c->nx + 1));
+    OK(get(s, mine, c->nx));
+    int count = (int)(rows * c->nx), first = (int)(y0 * c->nx);
+    int *counts = malloc(sizeof(int) * (size_t)size), *firsts = malloc(sizeof(int) * (size_t)size);
+    MPI_Gather(&count, 1, MPI_INT, counts, 1, MPI_INT, 0, comm);
+    MPI_Gather(&first, 1, MPI_INT, firsts, 1, MPI_INT, 0, comm);
+    MPI_Gatherv(mine, count, MPI_DOUBLE, all, counts, firsts, MPI_DOUBLE, 0, comm);
+    free(mine);
+    free(counts);
+    free(firsts);
+}
+
+static int get_surface(const gfmd_sim *s, double *x, int64_t ld) { return gfmd_mpi_get_local_surface(s, x, ld); }
+static int get_pressure(const gfmd_sim *s, double *x, int64_t ld) { return gfmd_mpi_get_local_pressure(s, x, ld); }
+
+/* Runs the case on comm (ranks outside it pass MPI_COMM_NULL and skip): steps, or relax if steps
+ * < 0.  The result lands on comm's rank 0 (world rank 0). */
+static void run_distributed(MPI_Comm comm, const Case *c, int64_t steps, Result *out) {
+    if (comm == MPI_COMM_NULL) return;
+    gfmd_sim *s = NULL;
+    OK(gfmd_sim_create_mpi(comm, c->nx, c->ny, (double)c->nx, (double)c->ny, GFMD_PLANNER_ESTIMATE, &s));
+    if (s == NULL) return;
+    setup(s, c);
+    if (steps > 0) OK(gfmd_step(s, steps));
+    else OK(gfmd_relax(s, 1e-10, 200000, NULL));
+    observe(s, out->obs);
+    gather(comm, s, c, get_surface, out->z);
+    gather(comm, s, c, get_pressure, out->p);
+    gfmd_sim_destroy(&s);
+}
+
+static void run_serial(const Case *c, int64_t steps, Result *out) {
+    gfmd_sim *s = NULL;
+    OK(gfmd_sim_create_ex(c->nx, c->ny, (double)c->nx, (double)c->ny, 1, GFMD_PLANNER_ESTIMATE, &s));
+    if (s == NULL) return;
+    setup(s, c);
+    if (steps > 0) OK(gfmd_step(s, steps));
+    else OK(gfmd_relax(s, 1e-10, 200000, NULL));
+    observe(s, out->obs);
+    OK(gfmd_get_surface(s, out->z));
+    OK(gfmd_get_pressure(s, out->p));
+    gfmd_sim_destroy(&s);
+}
+
+static double max_abs(const double *x, int64_t n) {
+    double m = 0.0;
+    for (int64_t i = 0; i < n; ++i) m = fmax(m, fabs(x[i]));
+    return m;
+}
+
+static double max_diff(const double *x, const double *y, int64_t n) {
+    double m = 0.0;
+    for (int64_t i = 0; i < n; ++i) m = fmax(m, fabs(x[i] - y[i]));
+    return m;
+}
+
+int main(int argc, char **argv) {
+    MPI_Init(&argc, &argv);
+    int size = 1;
+    MPI_Comm_rank(MPI_COMM_WORLD, &world_rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &size);
+    enum { kMaxRanks = 8 };
+    if (size > kMaxRanks) size = kMaxRanks;
+    /* comms[k]: world ranks 0 .. k (k + 1 ranks). */
+    MPI_Comm comms[kMaxRanks];
+    for (int k = 0; k < size; ++k) MPI_Comm_split(MPI_COMM_WORLD, world_rank <= k ? 0 : MPI_UNDEFINED, world_rank, &comms[k]);
+
+    const Case cases[] = {
+        {"half-space FIRE 64x48", 64, 48, GFMD_GREEN_HALFSPACE, 0.0, 0.0, GFMD_SOLVER_FIRE, 0.0, 0.02},
+        {"fluid layer w=4 FIRE_MASS 45x30", 45, 30, GFMD_GREEN_LAYER_FLUID, 4.0, 0.0, GFMD_SOLVER_FIRE_MASS, 0.0, 0.01},
+        {"bonded w=8 nu=0.3 Verlet 32x40", 32, 40, GFMD_GREEN_LAYER_BONDED, 8.0, 0.3, GFMD_SOLVER_VERLET, 0.0, 0.02},
+        {"bonded w=8 nu=0.5 CG 40x32", 40, 32, GFMD_GREEN_LAYER_BONDED, 8.0, 0.5, GFMD_SOLVER_CG, 0.0, 0.02},
+        {"adhesive fluid w=2 FIRE 48x48", 48, 48, GFMD_GREEN_LAYER_FLUID, 2.0, 0.0, GFMD_SOLVER_FIRE, 5e-4, 0.002},
+        {"half-space AUTO 64x6 (a rank without rows at 4)", 64, 6, GFMD_GREEN_HALFSPACE, 0.0, 0.0, GFMD_SOLVER_AUTO, 0.0, 0.05},
+    };
+    const int ncases = (int)(sizeof cases / sizeof cases[0]);
+    for (int ic = 0; ic < ncases; ++ic) {
+        const Case *c = &cases[ic];
+        const int64_t n = c->nx * c->ny;
+        Result serial, dist[kMaxRanks];
+        for (int pass = 0; pass < 3; ++pass) {
+            /* pass 0: 50 steps, bits across rank counts; 1: 20 steps vs serial; 2: relaxed vs serial */
+            const int64_t steps = pass == 0 ? 50 : pass == 1 ? 20 : -1;
+            serial.z = calloc((size_t)n, sizeof(double));
+            serial.p = calloc((size_t)n, sizeof(double));
+            if (world_rank == 0) run_serial(c, steps, &serial);
+            for (int k = 0; k < size; ++k) {
+                dist[k].z = calloc((size_t)n, sizeof(double));
+                dist[k].p = calloc((size_t)n, sizeof(double));
+                run_distributed(comms[k], c, steps, &dist[k]);
+            }
+            if (world_rank == 0) {
+                for (int k = 1; k < size; ++k) {
+                    CHECK(memcmp(dist[k].z, dist[0].z, sizeof(double) * (size_t)n) == 0 &&
+                              memcmp(dist[k].p, dist[0].p, sizeof(double) * (size_t)n) == 0 &&
+                              memcmp(dist[k].obs, dist[0].obs, sizeof dist[0].obs) == 0,
+                          "%s, %lld steps: %d ranks differ from 1 rank in the bits (max |dz| %.3e)", c->name,
+                          (long long)steps, k + 1, max_diff(dist[k].z, dist[0].z, n));
+                }
+                const double dz = max_diff(serial.z, dist[0].z, n) / max_abs(serial.z, n);
+                const double dp = max_diff(serial.p, dist[0].p, n) / fmax(max_abs(serial.p, n), 1e-300);
+                if (pass == 1) {
+                    CHECK(dz <= 1e-12 && dp <= 1e-12, "%s: serial vs distributed after 20 steps: z %.3e, p %.3e", c->name, dz, dp);
+                    printf("%-48s 20 steps, serial vs MPI: max|dz|/max|z| %.2e, max|dp|/max|p| %.2e\n", c->name, dz, dp);
+                }
+                if (pass == 2) {
+                    double worst = 0.0;
+                    for (int j = 0; j < 4; ++j) {
+                        const double ref = fabs(serial.obs[j]);
+                        if (ref > 0.0) worst = fmax(worst, fabs(serial.obs[j] - dist[0].obs[j]) / ref);
+                        else worst = fmax(worst, fabs(dist[0].obs[j]));
+                    }
+                    CHECK(worst <= 1e-9, "%s: relaxed observables differ by %.3e relative", c->name, worst);
+                    CHECK(dist[0].obs[4] <= 1e-10, "%s: distributed residual %.3e above tol", c->name, dist[0].obs[4]);
+                    printf("%-48s relaxed, serial vs MPI: A/A0, gap, U_el, U_ad within %.2e relative\n", c->name, worst);
+                }
+                if (pass == 0) printf("%-48s 50 steps: bits identical on 1..%d ranks%s\n", c->name, size, failures ? "?" : "");
+            }
+            free(serial.z);
+            free(serial.p);
+            for (int k = 0; k < size; ++k) {
+                free(dist[k].z);
+                free(dist[k].p);
+            }
+        }
+    }
+    for (int k = 0; k < size; ++k)
+        if (comms[k] != MPI_COMM_NULL) MPI_Comm_free(&comms[k]);
+    int total = 0;
+    MPI_Allreduce(&failures, &total, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
+    if (world_rank == 0) printf("test_mpi_identity on %d ranks: %s (%d failures)\n", size, total ? "FAILED" : "passed", total);
+    MPI_Finalize();
+    return total ? 1 : 0;
+}
