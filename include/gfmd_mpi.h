@@ -26,9 +26,11 @@
  *
  * @par Results
  * With GFMD_PLANNER_ESTIMATE (chosen here, at creation), the same binary and FFTW, a run gives the
- * same bits on any number of ranks and threads: the transforms are FFTW-MPI's transposed layout,
- * whose bits do not depend on the ranks, and every global sum is formed per global row and added
- * exactly.  They are not the serial library's bits (another FFT algorithm): results agree with
+ * same bits on any number of ranks and threads per rank: the transforms are FFTW-MPI's transposed
+ * layout, whose bits do not depend on the ranks, planned on one thread per rank (FFTW's threaded
+ * MPI plans change the last bits; the library's own loops still use the handle's threads), and
+ * every global sum is formed per global row and added exactly.  MEASURE and PATIENT plans use the
+ * threads for the transforms too and promise no bits (FFTW times its candidates).  They are not the serial library's bits (another FFT algorithm): results agree with
  * libgfmd to rounding (docs/mpi.md gives the measured differences).
  */
 #ifndef GFMD_MPI_H
