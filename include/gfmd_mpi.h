@@ -22,7 +22,13 @@
  * be 0 on some ranks of a small grid.  A local field is local_ny rows of nx values, x fastest,
  * consecutive rows ld >= nx values apart: C `field[local_ny][ld]`, Fortran `field(ld, local_ny)`.
  * The whole-grid field calls of gfmd.h (gfmd_set_heights, gfmd_get_heights/gap/surface/pressure)
- * and gfmd_sim_save refuse a handle spread over more than one rank (GFMD_ERR_STATE).
+ * refuse a handle spread over more than one rank (GFMD_ERR_STATE).
+ *
+ * @par Checkpoints
+ * gfmd_sim_save() on a distributed handle writes one file collectively (MPI-IO; every rank its
+ * own rows, the first rank the header and the table of row hashes): the same bytes as a serial
+ * handle in the same state would write.  gfmd_sim_load_mpi() reads a file of any origin on any
+ * number of ranks; gfmd_sim_load() of either library reads it into a serial handle.
  *
  * @par Results
  * With GFMD_PLANNER_ESTIMATE (chosen here, at creation), the same binary and FFTW, a run gives the
@@ -66,6 +72,18 @@ GFMD_API int32_t gfmd_sim_create_mpi(MPI_Comm comm, int64_t nx, int64_t ny, doub
 /** gfmd_sim_create_mpi() with a Fortran communicator handle (MPI_Comm_f2c), for the Fortran module. */
 GFMD_API int32_t gfmd_sim_create_mpi_f(MPI_Fint comm, int64_t nx, int64_t ny, double lx, double ly,
                                        int32_t planner, gfmd_sim **out);
+
+/**
+ * Load a checkpoint (gfmd_sim_save() of a serial or distributed handle, any number of ranks, any
+ * format version this library reads) into a distributed handle on @p comm.  Collective: every
+ * rank reads its own rows and checks them against the file's row hashes (format 5; older formats
+ * are hashed by the first rank).  Statuses as gfmd_sim_load(), the same on every rank; the
+ * message of a failure goes to @p errbuf on every rank.
+ */
+GFMD_API int32_t gfmd_sim_load_mpi(MPI_Comm comm, const char *path, gfmd_sim **out, char *errbuf, int64_t errlen);
+
+/** gfmd_sim_load_mpi() with a Fortran communicator handle. */
+GFMD_API int32_t gfmd_sim_load_mpi_f(MPI_Fint comm, const char *path, gfmd_sim **out, char *errbuf, int64_t errlen);
 
 /** This rank's slab: rows [*y0, *y0 + *local_ny) of the global grid.  Local.  A serial handle
  *  owns all rows (local_ny = ny, y0 = 0). */

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <cstring>
 #include <mutex>
 #include <new>
 #include <string>
@@ -86,7 +87,16 @@ void FftGrid::backward_distributed(std::complex<double> *, double *) const {}
 void FftGrid::distribute(const Distribution *) {}
 void FftGrid::replan_distributed(ThreadPool &, int32_t) {}
 void FftGrid::gather_column0_distributed(const std::complex<double> *, std::complex<double> *) const {}
+void FftGrid::gather_rows_distributed(const void *, std::size_t, void *) const {}
 #endif
+
+void FftGrid::gather_rows(const void *local, std::size_t row_bytes, void *all) const {
+    if (!mpi_) {
+        std::memcpy(all, local, row_bytes * static_cast<std::size_t>(ny_));
+        return;
+    }
+    gather_rows_distributed(local, row_bytes, all);
+}
 
 void FftGrid::gather_column0(const std::complex<double> *local, std::complex<double> *all) const {
     if (!mpi_) {

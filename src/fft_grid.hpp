@@ -10,6 +10,7 @@
 #include <fftw3.h>
 
 #include <array>
+#include <cstddef>
 #include <complex>
 #include <cstdint>
 #include <memory>
@@ -129,11 +130,14 @@ public:
             check();
         } catch (const Error &e) {
             status = e.status();
-            message = e.what();
+            message = distributed() ? "rank " + std::to_string(rank_) + ": " + e.what() : e.what();
         }
         status = agree(status, message);
         if (status != 0) fail(status, message);
     }
+    // Every rank's rows of per-row records (row_bytes each, local_mode_rows() of them) gathered
+    // into all (ny records, in global row order) on every rank.
+    void gather_rows(const void *local, std::size_t row_bytes, void *all) const;
     // The modes kx = 0 of every ky (ny values, all ranks), from a local complex array.
     void gather_column0(const std::complex<double> *local, std::complex<double> *all) const;
 
@@ -184,6 +188,7 @@ private:
     void distribute(const Distribution *dist);
     void replan_distributed(ThreadPool &pool, int32_t planner);
     void gather_column0_distributed(const std::complex<double> *local, std::complex<double> *all) const;
+    void gather_rows_distributed(const void *local, std::size_t row_bytes, void *all) const;
     void forward_distributed(const double *in, std::complex<double> *out) const;
     void backward_distributed(std::complex<double> *in, double *out) const;
     int64_t nx_, ny_;

@@ -33,7 +33,8 @@ public:
 
     // Checkpoint and restart (checkpoint.cpp): the complete state in a portable binary file.
     void save(const char *path) const;
-    static std::unique_ptr<Simulation> load(const char *path);
+    // Collective with a distribution (libgfmd_mpi): every rank reads its own rows.
+    static std::unique_ptr<Simulation> load(const char *path, const Distribution *dist = nullptr);
 
     const FftGrid &grid() const { return grid_; }
 

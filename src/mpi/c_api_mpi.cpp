@@ -1,6 +1,7 @@
 // The C API of gfmd_mpi.h: distributed handles (the rest of the API is c_api.cpp, shared with the
 // serial library).
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 #include <memory>
 #include <mutex>
@@ -25,21 +26,6 @@ void need_mpi() {
     int up = 0, down = 0;
     if (MPI_Initialized(&up) != MPI_SUCCESS || MPI_Finalized(&down) != MPI_SUCCESS || !up || down)
         fail(GFMD_ERR_STATE, "MPI is not initialized (or already finalized): call MPI_Init first");
-}
-
-// This rank's slab of an nx x ny grid on comm, as the distributed grid will split it.
-void slab(MPI_Comm comm, int64_t nx, int64_t ny, int64_t &local_ny, int64_t &y0) {
-    const ptrdiff_t n[2] = {static_cast<ptrdiff_t>(ny), static_cast<ptrdiff_t>(nx / 2 + 1)};
-    ptrdiff_t rows = 0, first = 0, cols = 0, kx0 = 0;
-    {
-        std::lock_guard<std::mutex> lock(gfmd::planner_mutex());
-        gfmd::threads_ready();
-        fftw_mpi_init();
-        fftw_mpi_local_size_many_transposed(2, n, 1, FFTW_MPI_DEFAULT_BLOCK, FFTW_MPI_DEFAULT_BLOCK, comm, &rows,
-                                            &first, &cols, &kx0);
-    }
-    local_ny = rows;
-    y0 = rows > 0 ? first : std::min<int64_t>(first, ny);
 }
 
 // The local rows of a field, from the contiguous local array `from`, into rows ld apart.
@@ -76,7 +62,7 @@ int32_t gfmd_mpi_local_size(MPI_Comm comm, int64_t nx, int64_t ny, int64_t *loca
     return status_of([&] {
         need_mpi();
         gfmd::validate_grid(nx, ny, 1.0, 1.0);
-        slab(comm, nx, ny, *local_ny, *y0);
+        gfmd::local_slab(comm, nx, ny, *local_ny, *y0);
     }, [](const char *) {});
 }
 
@@ -93,7 +79,7 @@ int32_t gfmd_sim_create_mpi(MPI_Comm comm, int64_t nx, int64_t ny, double lx, do
         gfmd::validate_grid(nx, ny, lx, ly);
         gfmd::validate_planner(planner);
         int64_t rows = 0, y0 = 0;
-        slab(comm, nx, ny, rows, y0);
+        gfmd::local_slab(comm, nx, ny, rows, y0);
         gfmd::check_memory(nx, std::max<int64_t>(rows, 1));
     }, [&](const char *msg) { message = msg; });
     uint64_t print[2] = {gfmd::capi::args(nx, ny, lx, ly, planner), 0};
@@ -117,6 +103,47 @@ int32_t gfmd_sim_create_mpi(MPI_Comm comm, int64_t nx, int64_t ny, double lx, do
 int32_t gfmd_sim_create_mpi_f(MPI_Fint comm, int64_t nx, int64_t ny, double lx, double ly, int32_t planner,
                               gfmd_sim **out) {
     return gfmd_sim_create_mpi(MPI_Comm_f2c(comm), nx, ny, lx, ly, planner, out);
+}
+
+int32_t gfmd_sim_load_mpi(MPI_Comm comm, const char *path, gfmd_sim **out, char *errbuf, int64_t errlen) {
+    std::string message;
+    auto report = [&](const char *msg) {
+        if (errbuf != nullptr && errlen > 0) std::snprintf(errbuf, static_cast<std::size_t>(errlen), "%s", msg);
+    };
+    report("");
+    if (out != nullptr) *out = nullptr;
+    int up = 0, down = 0;
+    if (MPI_Initialized(&up) != MPI_SUCCESS || MPI_Finalized(&down) != MPI_SUCCESS || !up || down) {
+        report("MPI is not initialized (or already finalized): call MPI_Init first");
+        return GFMD_ERR_STATE;
+    }
+    // The same path everywhere (and out and path given everywhere), before anything collective.
+    uint64_t print[2] = {gfmd::capi::args(path, out), 0};
+    print[1] = ~print[0];
+    if (MPI_Allreduce(MPI_IN_PLACE, print, 2, MPI_UINT64_T, MPI_MAX, comm) != MPI_SUCCESS) return GFMD_ERR_MPI;
+    if (print[0] != ~print[1]) {
+        report("a collective call got other arguments on another rank (values, or which pointers are NULL)");
+        return GFMD_ERR_INVALID_ARG;
+    }
+    std::unique_ptr<gfmd_sim> handle;
+    int32_t status = status_of([&] {
+        need(out, "out");
+        need(path, "path");
+        handle = std::make_unique<gfmd_sim>();
+        const gfmd::Distribution dist{comm};
+        handle->sim = gfmd::Simulation::load(path, &dist);
+    }, [&](const char *msg) { message = msg; });
+    status = gfmd::agree_on(comm, status, message);
+    if (status != GFMD_OK) {
+        report(message.c_str());
+        return status;
+    }
+    *out = handle.release();
+    return GFMD_OK;
+}
+
+int32_t gfmd_sim_load_mpi_f(MPI_Fint comm, const char *path, gfmd_sim **out, char *errbuf, int64_t errlen) {
+    return gfmd_sim_load_mpi(MPI_Comm_f2c(comm), path, out, errbuf, errlen);
 }
 
 int32_t gfmd_mpi_get_local_grid(const gfmd_sim *s, int64_t *local_ny, int64_t *y0) {

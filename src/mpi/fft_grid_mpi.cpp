@@ -17,6 +17,7 @@
 #include "../error.hpp"
 #include "../fft_grid.hpp"
 #include "../fftw_planner.hpp"
+#include "../fields.hpp"
 #include "mpi_state.hpp"
 
 namespace gfmd {
@@ -205,6 +206,45 @@ void FftGrid::gather_column0_distributed(const std::complex<double> *local, std:
               "MPI_Allgatherv");
 }
 
+void FftGrid::gather_rows_distributed(const void *local, std::size_t row_bytes, void *all) const {
+    MpiState &st = *mpi_;
+    std::vector<int> counts(static_cast<std::size_t>(ranks_)), firsts(static_cast<std::size_t>(ranks_));
+    for (int r = 0; r < ranks_; ++r) {
+        counts[static_cast<std::size_t>(r)] = st.rows_of[static_cast<std::size_t>(r)] * static_cast<int>(row_bytes);
+        firsts[static_cast<std::size_t>(r)] = st.first_row_of[static_cast<std::size_t>(r)] * static_cast<int>(row_bytes);
+    }
+    check_mpi(MPI_Allgatherv(local, static_cast<int>(local_rows_ * static_cast<int64_t>(row_bytes)), MPI_BYTE, all,
+                             counts.data(), firsts.data(), MPI_BYTE, st.dist.comm),
+              "MPI_Allgatherv");
+}
+
+void check_slab_memory(const Distribution &dist, int64_t nx, int64_t ny) {
+    int64_t rows = 0, y0 = 0;
+    local_slab(dist.comm, nx, ny, rows, y0);
+    std::string message;
+    int32_t status = GFMD_OK;
+    try {
+        check_memory(nx, std::max<int64_t>(rows, 1));
+    } catch (const Error &e) {
+        status = e.status();
+        message = e.what();
+    }
+    status = agree_on(dist.comm, status, message);
+    if (status != GFMD_OK) fail(status, message);
+}
+
+void local_slab(MPI_Comm comm, int64_t nx, int64_t ny, int64_t &local_ny, int64_t &y0) {
+    const ptrdiff_t n[2] = {static_cast<ptrdiff_t>(ny), static_cast<ptrdiff_t>(nx / 2 + 1)};
+    ptrdiff_t rows = 0, first = 0, cols = 0, kx0 = 0;
+    {
+        std::lock_guard<std::mutex> lock(planner_mutex());
+        mpi_ready();
+        fftw_mpi_local_size_many_transposed(2, n, 1, kMpiBlock, kMpiBlock, comm, &rows, &first, &cols, &kx0);
+    }
+    local_ny = rows;
+    y0 = rows > 0 ? first : std::min<int64_t>(first, ny);
+}
+
 int32_t agree_on(MPI_Comm comm, int32_t status, std::string &message) noexcept {
     int rank = 0, ranks = 1;
     if (MPI_Comm_rank(comm, &rank) != MPI_SUCCESS || MPI_Comm_size(comm, &ranks) != MPI_SUCCESS) return GFMD_ERR_MPI;
@@ -221,8 +261,8 @@ int32_t agree_on(MPI_Comm comm, int32_t status, std::string &message) noexcept {
         std::string text = (rank == first) ? message.substr(0, static_cast<std::size_t>(len))
                                            : std::string(static_cast<std::size_t>(len), ' ');
         if (MPI_Bcast(&text[0], len, MPI_CHAR, first, comm) != MPI_SUCCESS) return GFMD_ERR_MPI;
-        if (rank != first) message = "rank " + std::to_string(first) + ": " + text;
-        else message = "rank " + std::to_string(first) + ": " + message;
+        if (rank != first) message = text;
+        else message = message.substr(0, static_cast<std::size_t>(len));
     } catch (...) {
         // no memory for the message: every rank still has the status
     }

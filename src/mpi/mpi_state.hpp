@@ -25,6 +25,11 @@ void check_mpi(int rc, const char *what);
 // Collective; never throws.
 int32_t agree_on(MPI_Comm comm, int32_t status, std::string &message) noexcept;
 
+// This rank's slab of an nx x ny grid on comm: rows [y0, y0 + local_ny) (local_ny may be 0).
+void local_slab(MPI_Comm comm, int64_t nx, int64_t ny, int64_t &local_ny, int64_t &y0);
+// GFMD_ERR_NOMEM on every rank if any rank's slab of a handle does not fit.  Collective.
+void check_slab_memory(const Distribution &dist, int64_t nx, int64_t ny);
+
 struct MpiState {
     MpiState() = default;
     MpiState(const MpiState &) = delete;

@@ -82,8 +82,8 @@ static void cg_restart_is_bit_exact(void **state) {
     TS_OK(a, gfmd_set_pressure(a, 0.03));
     TS_OK(a, gfmd_step(a, 7));
     TS_OK(a, gfmd_sim_save(a, PATH));
-    /* one field more than FIRE's file: the pressure; 7 numbers of state instead of 3 */
-    assert_int_equal(file_size(PATH), 8 + 8 + 32 + 9 * 8 + 3 * 4 + 8 + 4 + 7 * 8 + 4 + 4 * 8 * NX * NY + 8);
+    /* one field more than FIRE's file: the pressure (and its row hashes); 7 numbers of state instead of 3 */
+    assert_int_equal(file_size(PATH), 8 + 8 + 32 + 9 * 8 + 3 * 4 + 8 + 4 + 7 * 8 + 4 + 4 * 8 * NX * NY + 4 * 8 * NY + 8);
     assert_int_equal(gfmd_sim_load(PATH, &b, NULL, 0), GFMD_OK);
     int32_t active = -1;
     TS_OK(b, gfmd_get_solver(b, &active));
@@ -132,9 +132,10 @@ static void damaged_files_are_refused(void **state) {
     TS_OK(a, gfmd_sim_save(a, PATH));
     gfmd_sim_destroy(&a);
     const long n = file_size(PATH);
-    /* format 4: magic, version + flags, grid, 9 f64 + 3 i32 parameters, threads + planner, the
-     * solver state (count + FIRE's 3 numbers), the count of solver fields (0), three fields, hash */
-    assert_int_equal(n, 8 + 8 + 32 + 9 * 8 + 3 * 4 + 8 + 4 + 3 * 8 + 4 + 3 * 8 * NX * NY + 8);
+    /* format 5: magic, version + flags, grid, 9 f64 + 3 i32 parameters, threads + planner, the
+     * solver state (count + FIRE's 3 numbers), the count of solver fields (0), three fields, a
+     * hash per row of each field, the hash of header and row hashes */
+    assert_int_equal(n, 8 + 8 + 32 + 9 * 8 + 3 * 4 + 8 + 4 + 3 * 8 + 4 + 3 * 8 * NX * NY + 3 * 8 * NY + 8);
 
     const long cuts[] = {0, 5, 12, 100, n / 2, n - 1};
     for (int i = 0; i < 6; ++i) {
@@ -146,8 +147,8 @@ static void damaged_files_are_refused(void **state) {
         rewrite(PATH, -1, flips[i], NULL, 0, 0);
         expect_refused(GFMD_ERR_FORMAT, "corrupted");
     }
-    const unsigned char v5[4] = {5, 0, 0, 0};
-    rewrite(PATH, -1, -1, v5, 4, 8);
+    const unsigned char v6[4] = {6, 0, 0, 0};
+    rewrite(PATH, -1, -1, v6, 4, 8);
     expect_refused(GFMD_ERR_VERSION, "another version");
     const unsigned char junk[8] = {'P', 'K', 3, 4, 0, 0, 0, 0};
     rewrite(PATH, -1, -1, junk, 8, 0);
@@ -193,18 +194,93 @@ static void write_rehashed(const char *path, unsigned char *buf, long n) {
     fclose(f);
 }
 
-/* Files of the earlier formats made from a format-4 one load and resume the run bit for bit:
- * format 3 (no count of solver fields: none), format 2 (no control parameters: pressure control) and format 1 (also FIRE's dt, alpha as f64
+/* The same for format 5: buf[0..n) with k fields, its row hashes recomputed and then the hash of
+ * the header and the row hashes, as a forger would. */
+static void write_rehashed5(const char *path, unsigned char *buf, long n, int k) {
+    const long table = n - 8 - 8L * k * NY, fields_at = table - 8L * k * NX * NY;
+    uint64_t h = 0xcbf29ce484222325ULL;
+    for (long i = 0; i < fields_at; ++i) h = (h ^ buf[i]) * 0x100000001b3ULL;
+    for (long row = 0; row < k * NY; ++row) {
+        uint64_t r = 0xcbf29ce484222325ULL;
+        for (long i = 0; i < 8L * NX; ++i) r = (r ^ buf[fields_at + row * 8L * NX + i]) * 0x100000001b3ULL;
+        for (int b = 0; b < 8; ++b) buf[table + 8 * row + b] = (unsigned char)(r >> (8 * b));
+    }
+    for (long i = table; i < n - 8; ++i) h = (h ^ buf[i]) * 0x100000001b3ULL;
+    for (int b = 0; b < 8; ++b) buf[n - 8 + b] = (unsigned char)(h >> (8 * b));
+    FILE *f = fopen(path, "wb");
+    assert_int_equal(fwrite(buf, 1, (size_t)n, f), (size_t)n);
+    fclose(f);
+}
+
+static void write_raw(const char *path, const unsigned char *buf, long n) {
+    FILE *f = fopen(path, "wb");
+    assert_int_equal(fwrite(buf, 1, (size_t)n, f), (size_t)n);
+    fclose(f);
+}
+
+/* Format 5's two hashes: a field byte changed under an intact table and final hash is caught by
+ * its row's hash (each rank checks its own rows); a table entry changed under an intact final
+ * hash by the final hash; the same change with both recomputed (as the test's own writer does)
+ * loads, so the test's hashing is the library's. */
+static void row_hashes_are_checked(void **state) {
+    (void)state;
+    gfmd_sim *a = make(GFMD_SOLVER_FIRE);
+    TS_OK(a, gfmd_sim_save(a, PATH));
+    gfmd_sim_destroy(&a);
+    long n = 0;
+    unsigned char *buf = read_all(PATH, &n);
+    const long z_byte = OFF_FIELDS + 8L * NX * NY + 8L * NX * 5; /* the lowest byte of z at (0, 5) */
+    buf[z_byte] ^= 1;
+    write_raw("damaged.gfmd", buf, n);
+    expect_refused(GFMD_ERR_FORMAT, "a field byte under its row hash");
+    buf[z_byte] ^= 1;
+    const long table_byte = n - 8 - 3L * 8 * NY + 8L * (NY + 5);
+    buf[table_byte] ^= 1;
+    write_raw("damaged.gfmd", buf, n);
+    expect_refused(GFMD_ERR_FORMAT, "a row hash under the final hash");
+    buf[table_byte] ^= 1;
+    buf[z_byte] ^= 1;
+    write_rehashed5("damaged.gfmd", buf, n, 3);
+    gfmd_sim *s = NULL;
+    char msg[256] = "";
+    if (gfmd_sim_load("damaged.gfmd", &s, msg, sizeof msg) != GFMD_OK) fail_msg("rehashed file refused: %s", msg);
+    gfmd_sim_destroy(&s);
+    free(buf);
+    remove("damaged.gfmd");
+    remove(PATH);
+}
+
+/* Files of the earlier formats made from a format-5 one load and resume the run bit for bit:
+ * format 4 (no row hashes), format 3 (no count of solver fields: none), format 2 (no control parameters: pressure control) and format 1 (also FIRE's dt, alpha as f64
  * and its count as i64 in place of the solver state). */
 static void older_formats_resume(void **state) {
     (void)state;
-    for (int version = 1; version <= 3; ++version)
+    for (int version = 1; version <= 4; ++version)
         for (int32_t solver = GFMD_SOLVER_VERLET; solver <= GFMD_SOLVER_FIRE_MASS; ++solver) {
             gfmd_sim *a = make(solver), *b = NULL;
             TS_OK(a, gfmd_step(a, 37));
             TS_OK(a, gfmd_sim_save(a, PATH));
             long n4 = 0;
             unsigned char *v4 = read_all(PATH, &n4);
+            /* format 4: format 5 without the row hashes (3 fields here), one hash over all before it */
+            n4 -= 3 * 8 * NY;
+            v4[OFF_VERSION] = 4;
+            write_rehashed(PATH, v4, n4);
+            if (version == 4) {
+                write_rehashed("older.gfmd", v4, n4);
+                free(v4);
+                char msg4[256] = "";
+                if (gfmd_sim_load("older.gfmd", &b, msg4, sizeof msg4) != GFMD_OK) fail_msg("format 4: %s", msg4);
+                TS_OK(a, gfmd_step(a, 50));
+                TS_OK(b, gfmd_step(b, 50));
+                double za[NX * NY], pa[NX * NY], zb[NX * NY], pb[NX * NY];
+                fields(a, za, pa);
+                fields(b, zb, pb);
+                assert_memory_equal(za, zb, sizeof za);
+                gfmd_sim_destroy(&a);
+                gfmd_sim_destroy(&b);
+                continue;
+            }
             /* format 3: without the count of solver fields (FIRE, Verlet: 3 or 0 numbers of state) */
             const long k_at = OFF_STATE + 8 * (long)v4[OFF_COUNT];
             assert_int_equal(v4[k_at], 0);
@@ -269,7 +345,7 @@ static void forged_headers_are_refused(void **state) {
     long n = 0;
     unsigned char *buf = read_all(PATH, &n);
     buf[OFF_FLAGS] = 1;
-    write_rehashed("damaged.gfmd", buf, n);
+    write_rehashed5("damaged.gfmd", buf, n, 3);
     expect_refused(GFMD_ERR_FORMAT, "unknown flags");
     buf[OFF_FLAGS] = 0;
     const int64_t big = 4096;
@@ -326,6 +402,7 @@ int main(void) {
         cmocka_unit_test(restart_is_bit_exact),
         cmocka_unit_test(damaged_files_are_refused),
         cmocka_unit_test(older_formats_resume),
+        cmocka_unit_test(row_hashes_are_checked),
         cmocka_unit_test(cg_restart_is_bit_exact),
         cmocka_unit_test(forged_headers_are_refused),
         cmocka_unit_test(failed_save_leaves_nothing),
