@@ -8,7 +8,8 @@
 //     f64 width, nu, sigma0, gamma0, rho, dt_user, eta_user; i32 solver; i32 control; f64 mean_z
 //   i32 threads (informative; not restored), planner
 //   u32 count, f64 solver_state[count]  (the solver's adaptive state: FIRE's dt, alpha, count)
-//   u32 k                               (grid-sized fields of the solver's state: CG's pressure)
+//   u32 k                               (grid-sized fields of the solver's state: CG's pressure;
+//                                        with solver = AUTO, k > 0 says AUTO had chosen CG, else FIRE)
 //   f64 h[nx*ny], z[nx*ny], v[nx*ny]    (x fastest)
 //   f64 field[k][nx*ny]
 //   u64 row_hash[3 + k][ny]             FNV-1a of each row's 8 nx bytes, field by field
@@ -409,6 +410,15 @@ std::unique_ptr<Simulation> Simulation::load(const char *path, const Distributio
         s->set_timestep(params.dt_user);
         s->set_damping(params.eta_user);
         s->set_solver(params.solver);
+        if (params.solver == GFMD_SOLVER_AUTO) {
+            // The choice AUTO made when the load was set, not the one the loaded state would give
+            // now: of AUTO's two choices, CG keeps a grid-sized field of state and FIRE none.
+            const int32_t active = (hd.solver_fields > 0) ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE;
+            if (active != s->active_solver_) {
+                s->solver_ = make_solver(active, s->grid_, s->dynamics_);
+                s->active_solver_ = active;
+            }
+        }
         s->solver_->set_state(hd.state);
         s->solver_->set_grid_state(std::move(extra));
     } catch (const Error &e) {

@@ -62,6 +62,35 @@ static void restart_is_bit_exact(void **state) {
     remove(PATH);
 }
 
+/* GFMD_SOLVER_AUTO's choice survives a restart: it is the choice made when the load was set (CG
+ * here: a fluid layer at a high Persson area), not what the loaded, relaxed state would suggest
+ * (a regression: the loaded file was refused, "invalid FIRE state"). */
+static void auto_choice_survives_restart(void **state) {
+    (void)state;
+    gfmd_sim *a = ts_create(NX, NY, 40.0, 24.0), *b = NULL;
+    TS_OK(a, gfmd_generate_selfaffine(a, 0.8, 20.0, 4.0, 0.1, 5, GFMD_DIST_UNIFORM));
+    TS_OK(a, gfmd_set_green(a, GFMD_GREEN_LAYER_FLUID, 4.0));
+    TS_OK(a, gfmd_set_pressure(a, 0.02));
+    int32_t active = -1;
+    TS_OK(a, gfmd_get_solver(a, &active));
+    assert_int_equal(active, GFMD_SOLVER_CG);
+    TS_OK(a, gfmd_step(a, 40));
+    TS_OK(a, gfmd_sim_save(a, PATH));
+    char msg[256] = "";
+    if (gfmd_sim_load(PATH, &b, msg, sizeof msg) != GFMD_OK) fail_msg("%s", msg);
+    TS_OK(b, gfmd_get_solver(b, &active));
+    assert_int_equal(active, GFMD_SOLVER_CG);
+    TS_OK(a, gfmd_step(a, 10));
+    TS_OK(b, gfmd_step(b, 10));
+    double za[NX * NY], zb[NX * NY];
+    TS_OK(a, gfmd_get_surface(a, za));
+    TS_OK(b, gfmd_get_surface(b, zb));
+    assert_memory_equal(za, zb, sizeof za);
+    gfmd_sim_destroy(&a);
+    gfmd_sim_destroy(&b);
+    remove(PATH);
+}
+
 static long file_size(const char *path) {
     FILE *f = fopen(path, "rb");
     assert_non_null(f);
@@ -403,6 +432,7 @@ int main(void) {
         cmocka_unit_test(damaged_files_are_refused),
         cmocka_unit_test(older_formats_resume),
         cmocka_unit_test(row_hashes_are_checked),
+        cmocka_unit_test(auto_choice_survives_restart),
         cmocka_unit_test(cg_restart_is_bit_exact),
         cmocka_unit_test(forged_headers_are_refused),
         cmocka_unit_test(failed_save_leaves_nothing),
