@@ -46,3 +46,36 @@ install(FILES include/gfmd_mpi.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(EXPORT gfmdMPITargets NAMESPACE gfmd:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/gfmd)
 configure_file(cmake/gfmd-mpi.pc.in ${CMAKE_CURRENT_BINARY_DIR}/gfmd-mpi.pc @ONLY)
 install(FILES ${CMAKE_CURRENT_BINARY_DIR}/gfmd-mpi.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+
+# Fortran: libgfmd_mpi_f (gfmd::fortran_mpi) with the modules gfmd_c_api, gfmd (compiled again,
+# against libgfmd_mpi: a program must not load libgfmd and libgfmd_mpi together) and gfmd_mpi.
+if(GFMD_BUILD_FORTRAN)
+  find_package(MPI REQUIRED COMPONENTS Fortran)
+  if(NOT MPI_Fortran_HAVE_F08_MODULE)
+    message(FATAL_ERROR "GFMD_BUILD_MPI with Fortran needs MPI's mpi_f08 module")
+  endif()
+  set(GFMD_FORTRAN_MPI_MODDIR
+    ${CMAKE_INSTALL_INCLUDEDIR}/gfmd/fortran-mpi/${CMAKE_Fortran_COMPILER_ID}-${CMAKE_Fortran_COMPILER_VERSION})
+  add_library(gfmd_mpi_f bindings/fortran/gfmd_c_api.f90 bindings/fortran/gfmd.f90 bindings/fortran/gfmd_mpi.f90)
+  add_library(gfmd::fortran_mpi ALIAS gfmd_mpi_f)
+  set_target_properties(gfmd_mpi_f PROPERTIES
+    VERSION ${PROJECT_VERSION}
+    SOVERSION ${PROJECT_VERSION_MAJOR}
+    EXPORT_NAME fortran_mpi
+    INSTALL_RPATH "$ORIGIN"
+    Fortran_MODULE_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR}/mod-mpi)
+  target_compile_options(gfmd_mpi_f PRIVATE $<$<Fortran_COMPILER_ID:GNU>:-Wall -Wextra -std=f2018 -fimplicit-none>)
+  target_include_directories(gfmd_mpi_f
+    PRIVATE ${PROJECT_BINARY_DIR}/fortran
+    PUBLIC $<BUILD_INTERFACE:${CMAKE_CURRENT_BINARY_DIR}/mod-mpi> $<INSTALL_INTERFACE:${GFMD_FORTRAN_MPI_MODDIR}>)
+  target_link_libraries(gfmd_mpi_f PUBLIC gfmd_mpi MPI::MPI_Fortran)
+  install(TARGETS gfmd_mpi_f EXPORT gfmdFortranMPITargets
+    LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+    ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  install(DIRECTORY ${CMAKE_CURRENT_BINARY_DIR}/mod-mpi/ DESTINATION ${GFMD_FORTRAN_MPI_MODDIR})
+  install(FILES bindings/fortran/gfmd_c_api.f90 bindings/fortran/gfmd.f90 bindings/fortran/gfmd_mpi.f90
+    ${PROJECT_BINARY_DIR}/fortran/gfmd_constants.inc DESTINATION ${GFMD_FORTRAN_MPI_MODDIR})
+  install(EXPORT gfmdFortranMPITargets NAMESPACE gfmd:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/gfmd)
+  configure_file(cmake/gfmd-fortran-mpi.pc.in ${CMAKE_CURRENT_BINARY_DIR}/gfmd-fortran-mpi.pc @ONLY)
+  install(FILES ${CMAKE_CURRENT_BINARY_DIR}/gfmd-fortran-mpi.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+endif()

@@ -23,6 +23,7 @@ module gfmd
 
   public :: gfmd_sim_t, gfmd_version, gfmd_status_string, gfmd_green_factor, gfmd_least_squares
   public :: gfmd_import_wisdom, gfmd_export_wisdom
+  public :: gfmd_sim_adopt, gfmd_sim_c_handle
 
   !> A simulation: owns one C handle.
   type :: gfmd_sim_t
@@ -755,5 +756,22 @@ contains
     character(:), allocatable :: msg
     msg = handle_message(self%ptr)
   end function sim_last_error
+
+  !> Make `sim` the owner of a C handle made elsewhere (the module gfmd_mpi's distributed
+  !> handles); its previous simulation is freed.  Not type-bound: the type's layout stays.
+  subroutine gfmd_sim_adopt(sim, handle)
+    type(gfmd_sim_t), intent(inout) :: sim
+    type(c_ptr), intent(in) :: handle
+    if (c_associated(sim%ptr, handle)) return
+    call c_gfmd_sim_destroy(sim%ptr)
+    sim%ptr = handle
+  end subroutine gfmd_sim_adopt
+
+  !> The C handle of `sim` (c_null_ptr before create), for calls of the C API from Fortran.
+  function gfmd_sim_c_handle(sim) result(handle)
+    type(gfmd_sim_t), intent(in) :: sim
+    type(c_ptr) :: handle
+    handle = sim%ptr
+  end function gfmd_sim_c_handle
 
 end module gfmd
