@@ -10,6 +10,7 @@ add_library(gfmd_mpi ${GFMD_CORE_SOURCES} src/mpi/fft_grid_mpi.cpp src/mpi/c_api
 add_library(gfmd::mpi ALIAS gfmd_mpi)
 target_compile_definitions(gfmd_mpi PRIVATE GFMD_MPI)
 set_target_properties(gfmd_mpi PROPERTIES
+  EXPORT_NAME mpi
   VERSION ${PROJECT_VERSION}
   SOVERSION ${PROJECT_VERSION_MAJOR}
   CXX_VISIBILITY_PRESET hidden
