@@ -80,3 +80,7 @@ if(GFMD_BUILD_FORTRAN)
   configure_file(cmake/gfmd-fortran-mpi.pc.in ${CMAKE_CURRENT_BINARY_DIR}/gfmd-fortran-mpi.pc @ONLY)
   install(FILES ${CMAKE_CURRENT_BINARY_DIR}/gfmd-fortran-mpi.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
 endif()
+
+if(GFMD_BUILD_EXAMPLES)
+  add_subdirectory(examples/mpi)
+endif()
