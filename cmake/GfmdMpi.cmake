@@ -84,3 +84,17 @@ endif()
 if(GFMD_BUILD_EXAMPLES)
   add_subdirectory(examples/mpi)
 endif()
+
+# gfmd_bench_mpi: the distributed handle against the threaded serial one (docs/mpi.md).
+if(GFMD_BUILD_BENCHMARK)
+  add_executable(gfmd_bench_mpi bench/gfmd_bench_mpi.c)
+  target_include_directories(gfmd_bench_mpi PRIVATE ${FFTW3_MPI_INCLUDE_DIR})
+  target_link_libraries(gfmd_bench_mpi PRIVATE gfmd::mpi ${FFTW3_MPI_LIBRARY} PkgConfig::FFTW3 m)
+  if(GFMD_BUILD_TESTS)
+    add_test(NAME benchmark_mpi_small
+      COMMAND ${MPIEXEC_EXECUTABLE} --oversubscribe ${MPIEXEC_NUMPROC_FLAG} 2 $<TARGET_FILE:gfmd_bench_mpi> --sizes 64,96 --steps 3)
+    set_tests_properties(benchmark_mpi_small PROPERTIES PROCESSORS 2 RUN_SERIAL TRUE LABELS "mpi"
+      PASS_REGULAR_EXPRESSION "    96     2 \\| +[0-9.]+ +[0-9.]+"
+      ENVIRONMENT "OMP_NUM_THREADS=1;OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMPI_MCA_mpi_yield_when_idle=1")
+  endif()
+endif()
