@@ -6,9 +6,9 @@
  *  - serial vs distributed after <= 20 steps: fields within 1e-12 of max |field| (the two FFT
  *    algorithms differ by about one ulp of the largest value per transform pair, measured
  *    ../shared/designs/mpi.md; 20 steps amplify that by at most the dynamics' stable factor);
- *  - relaxed to tol 1e-10: A/A0, mean gap and energies within 1e-9 relative of the serial handle
- *    (a converged state is a property of the problem, not of the path; 1e-9 is the issue's bound,
- *    the measured differences are printed).
+ *  - relaxed to tol 1e-10: A/A0, mean gap and energies within 1e-11 relative of the serial handle
+ *    (a converged state is a property of the problem, not of the path; the measured differences
+ *    are printed).
  * Grids include odd and non-square sizes and one where a rank owns no rows (ny = 6 on 4 ranks). */
 #include <gfmd_mpi.h>
 #include <math.h>
@@ -209,8 +209,10 @@ int main(int argc, char **argv) {
                         if (ref > 0.0) worst = fmax(worst, fabs(serial.obs[j] - dist[0].obs[j]) / ref);
                         else worst = fmax(worst, fabs(dist[0].obs[j]));
                     }
-                    /* 1e-9 is the promise; measured <= 1.1e-14 (relaxed to 1e-10 both ways). */
-                    CHECK(worst <= 1e-9, "%s: relaxed observables differ by %.3e relative", c->name, worst);
+                    /* The issue's bound is 1e-9; the data allow 1e-11 (measured <= 1.1e-14, both
+                     * relaxed to a residual of 1e-10 from the same start: the paths differ by
+                     * rounding only, and a residual of 1e-10 bounds the distance from the minimum). */
+                    CHECK(worst <= 1e-11, "%s: relaxed observables differ by %.3e relative", c->name, worst);
                     CHECK(dist[0].obs[4] <= 1e-10, "%s: distributed residual %.3e above tol", c->name, dist[0].obs[4]);
                     printf("%-48s relaxed, serial vs MPI: A/A0, gap, U_el, U_ad within %.2e relative\n", c->name, worst);
                 }
