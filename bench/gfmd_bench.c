@@ -42,33 +42,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "bench_clock.h"
 #include "cg_reference.h"
-
-static double now(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
-/* Peak resident memory since the last reset, in bytes (Linux: VmHWM, reset via clear_refs). */
-static void reset_peak(void) {
-    FILE *f = fopen("/proc/self/clear_refs", "w");
-    if (f) {
-        fputs("5", f);
-        fclose(f);
-    }
-}
-
-static double read_status_kb(const char *key) {
-    FILE *f = fopen("/proc/self/status", "r");
-    char line[256];
-    double kb = -1.0;
-    if (!f) return -1.0;
-    while (fgets(line, sizeof line, f))
-        if (!strncmp(line, key, strlen(key))) kb = atof(line + strlen(key));
-    fclose(f);
-    return kb;
-}
 
 /* The bare transforms one step needs: one r2c and one c2r of n x n, same threads and planner. */
 static double fft_pair_seconds(int n, int threads) {

@@ -21,30 +21,7 @@
 #include <string.h>
 #include <time.h>
 
-static double now(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
-static void reset_peak(void) {
-    FILE *f = fopen("/proc/self/clear_refs", "w");
-    if (f) {
-        fputs("5", f);
-        fclose(f);
-    }
-}
-
-static double status_kb(const char *key) {
-    FILE *f = fopen("/proc/self/status", "r");
-    char line[256];
-    double kb = -1.0;
-    if (!f) return -1.0;
-    while (fgets(line, sizeof line, f))
-        if (!strncmp(line, key, strlen(key))) kb = atof(line + strlen(key));
-    fclose(f);
-    return kb;
-}
+#include "bench_clock.h"
 
 static int cmp(const void *a, const void *b) {
     const double x = *(const double *)a, y = *(const double *)b;
@@ -151,7 +128,7 @@ int main(int argc, char **argv) {
         if (n < 8) continue;
         const double pair = mpi_pair_seconds(n, flags, steps);
 
-        const double base = status_kb("VmRSS:");
+        const double base = read_status_kb("VmRSS:");
         reset_peak();
         gfmd_sim *s = NULL;
         int32_t st = gfmd_sim_create_mpi(MPI_COMM_WORLD, n, n, n, n, planner, &s);
@@ -161,7 +138,7 @@ int main(int argc, char **argv) {
         if (st == GFMD_OK) step = step_seconds(s, steps, MPI_COMM_WORLD);
         int64_t rows = 0, y0 = 0;
         if (s) gfmd_mpi_get_local_grid(s, &rows, &y0);
-        double bpt = (status_kb("VmHWM:") - base) * 1024.0 / (double)(rows > 0 ? rows * n : 1);
+        double bpt = (read_status_kb("VmHWM:") - base) * 1024.0 / (double)(rows > 0 ? rows * n : 1);
         MPI_Allreduce(MPI_IN_PLACE, &bpt, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
         gfmd_sim_destroy(&s);
         malloc_trim(0); /* give the memory back, so the next handle's peak is its own */
@@ -169,13 +146,13 @@ int main(int argc, char **argv) {
 
         double serial = 0.0, serial_bpt = 0.0;
         if (rank == 0) {
-            const double sbase = status_kb("VmRSS:");
+            const double sbase = read_status_kb("VmRSS:");
             reset_peak();
             gfmd_sim *t = NULL;
             int32_t ts = gfmd_sim_create_ex(n, n, n, n, ranks, planner, &t);
             if (ts == GFMD_OK) ts = build(t, n);
             if (ts == GFMD_OK) serial = step_seconds(t, steps, MPI_COMM_NULL);
-            serial_bpt = (status_kb("VmHWM:") - sbase) * 1024.0 / ((double)n * n);
+            serial_bpt = (read_status_kb("VmHWM:") - sbase) * 1024.0 / ((double)n * n);
             gfmd_sim_destroy(&t);
             malloc_trim(0);
             failed |= ts != GFMD_OK;

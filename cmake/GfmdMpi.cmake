@@ -57,7 +57,8 @@ if(GFMD_BUILD_FORTRAN)
   endif()
   set(GFMD_FORTRAN_MPI_MODDIR
     ${CMAKE_INSTALL_INCLUDEDIR}/gfmd/fortran-mpi/${CMAKE_Fortran_COMPILER_ID}-${CMAKE_Fortran_COMPILER_VERSION})
-  add_library(gfmd_mpi_f bindings/fortran/gfmd_c_api.f90 bindings/fortran/gfmd.f90 bindings/fortran/gfmd_mpi.f90)
+  add_library(gfmd_mpi_f bindings/fortran/gfmd_c_api.f90 bindings/fortran/gfmd_report.f90 bindings/fortran/gfmd.f90
+    bindings/fortran/gfmd_mpi.f90)
   add_library(gfmd::fortran_mpi ALIAS gfmd_mpi_f)
   set_target_properties(gfmd_mpi_f PROPERTIES
     VERSION ${PROJECT_VERSION}
@@ -74,7 +75,8 @@ if(GFMD_BUILD_FORTRAN)
     LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
   install(DIRECTORY ${CMAKE_CURRENT_BINARY_DIR}/mod-mpi/ DESTINATION ${GFMD_FORTRAN_MPI_MODDIR})
-  install(FILES bindings/fortran/gfmd_c_api.f90 bindings/fortran/gfmd.f90 bindings/fortran/gfmd_mpi.f90
+  install(FILES bindings/fortran/gfmd_c_api.f90 bindings/fortran/gfmd_report.f90 bindings/fortran/gfmd.f90
+    bindings/fortran/gfmd_mpi.f90
     ${PROJECT_BINARY_DIR}/fortran/gfmd_constants.inc DESTINATION ${GFMD_FORTRAN_MPI_MODDIR})
   install(EXPORT gfmdFortranMPITargets NAMESPACE gfmd:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/gfmd)
   configure_file(cmake/gfmd-fortran-mpi.pc.in ${CMAKE_CURRENT_BINARY_DIR}/gfmd-fortran-mpi.pc @ONLY)

@@ -87,6 +87,9 @@ private:
     uint64_t h_ = 14695981039346656037u;
 };
 
+constexpr const char *kOtherArguments =
+    "a collective call got other arguments on another rank (values, or which pointers are NULL)";
+
 template <class... A>
 uint64_t args(A... a) {
     ArgPrint p;
@@ -106,7 +109,7 @@ int32_t guarded(const gfmd_sim *s, uint64_t arguments, F &&f) noexcept {
     int32_t status = GFMD_OK;
     if (grid.distributed() && !grid.same_on_all_ranks(arguments)) {
         status = GFMD_ERR_INVALID_ARG;
-        message = "a collective call got other arguments on another rank (values, or which pointers are NULL)";
+        message = kOtherArguments;
     } else {
         status = status_of([&] { f(*s->sim); }, [&](const char *msg) {
             try {

@@ -11,10 +11,9 @@
 !> Free a simulation with `call sim%destroy()` (idempotent); the finalizer is only a safety net.
 !> Assignment `b = a` makes an independent deep copy, never a second owner of one handle.
 module gfmd
-  use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr, c_associated, c_f_pointer, c_char, &
-                                         c_double, c_int32_t, c_int64_t
-  use, intrinsic :: iso_fortran_env, only: error_unit
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr, c_associated, c_char, c_double, c_int32_t, c_int64_t
   use gfmd_c_api
+  use gfmd_report, only: c_string, finish, gfmd_status_string, handle_message
   implicit none
   private
 
@@ -81,68 +80,6 @@ contains
 
   ! ------------------------------------------------------------------ helpers
 
-  !> Copy a NUL-terminated C string owned by the library.
-  function c_string(p) result(s)
-    type(c_ptr), intent(in) :: p
-    character(:), allocatable :: s
-    character(kind=c_char), pointer :: chars(:)
-    integer :: n, i
-    n = int(c_strlen(p))
-    call c_f_pointer(p, chars, [n])
-    allocate (character(len=n) :: s)
-    do i = 1, n
-      s(i:i) = chars(i)
-    end do
-  end function c_string
-
-  !> The handle's message of its last failure ('' if none or no handle).
-  function handle_message(p) result(msg)
-    type(c_ptr), intent(in) :: p
-    character(:), allocatable :: msg
-    character(kind=c_char), allocatable :: buf(:)
-    integer(c_int64_t) :: n
-    integer :: i
-    msg = ''
-    if (.not. c_associated(p)) return
-    if (c_gfmd_last_error_length(p, n) /= GFMD_OK) return
-    allocate (buf(n))
-    if (c_gfmd_last_error(p, buf, n) /= GFMD_OK) return
-    msg = repeat(" ", int(n) - 1)
-    do i = 1, int(n) - 1
-      msg(i:i) = buf(i)
-    end do
-  end function handle_message
-
-  !> Report the status of a call: set stat/errmsg, or stop with the message when stat is absent.
-  subroutine finish(p, st, where, stat, errmsg, detail)
-    type(c_ptr), intent(in) :: p
-    integer(c_int32_t), intent(in) :: st
-    character(*), intent(in) :: where
-    integer, intent(out), optional :: stat
-    character(*), intent(out), optional :: errmsg
-    character(*), intent(in), optional :: detail
-    character(:), allocatable :: msg, why
-    if (present(stat)) stat = int(st)
-    if (st == GFMD_OK) then
-      if (present(errmsg)) errmsg = ''
-      return
-    end if
-    if (present(detail)) then
-      why = detail
-    else if (.not. c_associated(p) .and. st == GFMD_ERR_NULL) then
-      why = 'the simulation has not been created (call create first)'
-    else
-      why = handle_message(p)
-    end if
-    msg = 'gfmd: ' // where // ': ' // gfmd_status_string(int(st))
-    if (len(why) > 0) msg = msg // ': ' // why
-    if (present(errmsg)) errmsg = msg
-    if (.not. present(stat)) then
-      write (error_unit, '(a)') msg
-      error stop 1
-    end if
-  end subroutine finish
-
   !> Check that a field argument is (nx, ny); report through finish if not.
   logical function shape_ok(self, a, where, stat, errmsg)
     class(gfmd_sim_t), intent(in) :: self
@@ -176,13 +113,6 @@ contains
     character(:), allocatable :: v
     v = c_string(c_gfmd_version())
   end function gfmd_version
-
-  !> Description of a status code.
-  function gfmd_status_string(status) result(s)
-    integer, intent(in) :: status
-    character(:), allocatable :: s
-    s = c_string(c_gfmd_status_string(int(status, c_int32_t)))
-  end function gfmd_status_string
 
   !> f(t) of G(q) = 2 f(q w)/(q E*) for a kind of body; nu (default 0) for the bonded layer.
   subroutine gfmd_green_factor(kind, t, f, nu, stat, errmsg)

@@ -17,10 +17,9 @@
 module gfmd_mpi
   use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr, c_associated, c_char, c_null_char, c_double, &
                                          c_int, c_int32_t, c_int64_t
-  use, intrinsic :: iso_fortran_env, only: error_unit
   use mpi_f08, only: MPI_Comm
-  use gfmd, only: gfmd_sim_t, gfmd_sim_adopt, gfmd_sim_c_handle, gfmd_status_string, dp, GFMD_OK, &
-                  GFMD_PLANNER_MEASURE
+  use gfmd, only: gfmd_sim_t, gfmd_sim_adopt, gfmd_sim_c_handle, dp, GFMD_OK, GFMD_PLANNER_MEASURE
+  use gfmd_report, only: finish
   implicit none
   private
 
@@ -125,34 +124,6 @@ module gfmd_mpi
 
 contains
 
-  !> stat/errmsg from a status, or stop with the message when stat is absent.
-  subroutine finish(sim, st, where, stat, errmsg, detail)
-    type(gfmd_sim_t), intent(in) :: sim
-    integer(c_int32_t), intent(in) :: st
-    character(*), intent(in) :: where
-    integer, intent(out), optional :: stat
-    character(*), intent(out), optional :: errmsg
-    character(*), intent(in), optional :: detail
-    character(:), allocatable :: msg, why
-    if (present(stat)) stat = int(st)
-    if (st == GFMD_OK) then
-      if (present(errmsg)) errmsg = ''
-      return
-    end if
-    if (present(detail)) then
-      why = detail
-    else
-      why = sim%last_error()
-    end if
-    msg = 'gfmd_mpi: ' // where // ': ' // gfmd_status_string(int(st))
-    if (len(why) > 0) msg = msg // ': ' // why
-    if (present(errmsg)) errmsg = msg
-    if (.not. present(stat)) then
-      write (error_unit, '(a)') msg
-      error stop 1
-    end if
-  end subroutine finish
-
   subroutine create_int(sim, nx, ny, lx, ly, comm, planner, stat, errmsg)
     type(gfmd_sim_t), intent(inout) :: sim
     integer, intent(in) :: nx, ny
@@ -168,7 +139,7 @@ contains
     p = c_null_ptr
     st = c_create(int(comm, c_int), int(nx, c_int64_t), int(ny, c_int64_t), lx, ly, pl, p)
     if (st == GFMD_OK) call gfmd_sim_adopt(sim, p)
-    call finish(sim, st, 'create', stat, errmsg, '')
+    call finish(c_null_ptr, st, 'create', stat, errmsg, '')
   end subroutine create_int
 
   subroutine create_f08(sim, nx, ny, lx, ly, comm, planner, stat, errmsg)
@@ -202,7 +173,7 @@ contains
       if (buf(i) == c_null_char) exit
       msg(i:i) = buf(i)
     end do
-    call finish(sim, st, 'load', stat, errmsg, trim(msg))
+    call finish(c_null_ptr, st, 'load', stat, errmsg, trim(msg))
   end subroutine load_int
 
   subroutine load_f08(sim, path, comm, stat, errmsg)
@@ -227,7 +198,7 @@ contains
     st = c_local_grid(gfmd_sim_c_handle(sim), n, first)
     local_ny = int(n)
     y0 = int(first)
-    call finish(sim, st, 'get_local_grid', stat, errmsg)
+    call finish(gfmd_sim_c_handle(sim), st, 'get_local_grid', stat, errmsg)
   end subroutine gfmd_mpi_get_local_grid
 
   !> Ranks of the simulation's communicator (1 for a serial simulation).  Local.
@@ -240,7 +211,7 @@ contains
     n = 0
     st = c_ranks(gfmd_sim_c_handle(sim), n)
     ranks = int(n)
-    call finish(sim, st, 'get_ranks', stat, errmsg)
+    call finish(gfmd_sim_c_handle(sim), st, 'get_ranks', stat, errmsg)
   end subroutine gfmd_mpi_get_ranks
 
   !> This rank's rows of the substrate, h(ld, local_ny) with ld = size(h, 1) >= nx.  Collective.
@@ -249,14 +220,16 @@ contains
     real(dp), intent(in), contiguous :: h(:, :)
     integer, intent(out), optional :: stat
     character(*), intent(out), optional :: errmsg
+    type(c_ptr) :: p
+    integer(c_int32_t) :: st
     real(dp) :: none(1)
+    p = gfmd_sim_c_handle(sim)
     if (size(h) > 0) then
-      call finish(sim, c_set_heights(gfmd_sim_c_handle(sim), h, int(size(h, 1), c_int64_t)), 'set_local_heights', &
-                  stat, errmsg)
+      st = c_set_heights(p, h, int(size(h, 1), c_int64_t))
     else  ! a rank without rows: nothing to pass, the call is still collective
-      call finish(sim, c_set_heights(gfmd_sim_c_handle(sim), none, int(max(size(h, 1), 1), c_int64_t)), &
-                  'set_local_heights', stat, errmsg)
+      st = c_set_heights(p, none, int(max(size(h, 1), 1), c_int64_t))
     end if
+    call finish(p, st, 'set_local_heights', stat, errmsg)
   end subroutine gfmd_mpi_set_local_heights
 
   subroutine get_local(sim, getter, x, where, stat, errmsg)
@@ -266,12 +239,16 @@ contains
     character(*), intent(in) :: where
     integer, intent(out), optional :: stat
     character(*), intent(out), optional :: errmsg
+    type(c_ptr) :: p
+    integer(c_int32_t) :: st
     real(dp) :: none(1)
+    p = gfmd_sim_c_handle(sim)
     if (size(x) > 0) then
-      call finish(sim, getter(gfmd_sim_c_handle(sim), x, int(size(x, 1), c_int64_t)), where, stat, errmsg)
+      st = getter(p, x, int(size(x, 1), c_int64_t))
     else
-      call finish(sim, getter(gfmd_sim_c_handle(sim), none, int(max(size(x, 1), 1), c_int64_t)), where, stat, errmsg)
+      st = getter(p, none, int(max(size(x, 1), 1), c_int64_t))
     end if
+    call finish(p, st, where, stat, errmsg)
   end subroutine get_local
 
   !> This rank's rows of the substrate / surface / gap / contact pressure into x(ld, local_ny).  Local.

@@ -22,10 +22,10 @@ using gfmd::fail;
 using gfmd::capi::need;
 using gfmd::capi::status_of;
 
+constexpr const char *kNoMpi = "MPI is not initialized (or already finalized): call MPI_Init first";
+
 void need_mpi() {
-    int up = 0, down = 0;
-    if (MPI_Initialized(&up) != MPI_SUCCESS || MPI_Finalized(&down) != MPI_SUCCESS || !up || down)
-        fail(GFMD_ERR_STATE, "MPI is not initialized (or already finalized): call MPI_Init first");
+    if (!gfmd::mpi_usable()) fail(GFMD_ERR_STATE, kNoMpi);
 }
 
 // The local rows of a field, from the contiguous local array `from`, into rows ld apart.
@@ -70,9 +70,7 @@ int32_t gfmd_sim_create_mpi(MPI_Comm comm, int64_t nx, int64_t ny, double lx, do
                             gfmd_sim **out) {
     if (out == nullptr) return GFMD_ERR_NULL;
     *out = nullptr;
-    int up = 0, down = 0;
-    if (MPI_Initialized(&up) != MPI_SUCCESS || MPI_Finalized(&down) != MPI_SUCCESS || !up || down)
-        return GFMD_ERR_STATE;  // no communication possible: every rank sees the same
+    if (!gfmd::mpi_usable()) return GFMD_ERR_STATE;  // no communication possible: every rank sees the same
     std::string message;
     // Checked everywhere before anything collective: the arguments agree, the slab fits.
     int32_t status = status_of([&] {
@@ -82,10 +80,7 @@ int32_t gfmd_sim_create_mpi(MPI_Comm comm, int64_t nx, int64_t ny, double lx, do
         gfmd::local_slab(comm, nx, ny, rows, y0);
         gfmd::check_memory(nx, std::max<int64_t>(rows, 1));
     }, [&](const char *msg) { message = msg; });
-    uint64_t print[2] = {gfmd::capi::args(nx, ny, lx, ly, planner), 0};
-    print[1] = ~print[0];
-    if (MPI_Allreduce(MPI_IN_PLACE, print, 2, MPI_UINT64_T, MPI_MAX, comm) != MPI_SUCCESS) return GFMD_ERR_MPI;
-    if (print[0] != ~print[1]) return GFMD_ERR_INVALID_ARG;  // the same on every rank
+    if (!gfmd::same_everywhere(comm, gfmd::capi::args(nx, ny, lx, ly, planner))) return GFMD_ERR_INVALID_ARG;
     status = gfmd::agree_on(comm, status, message);
     if (status != GFMD_OK) return status;
     std::unique_ptr<gfmd_sim> handle;
@@ -112,17 +107,13 @@ int32_t gfmd_sim_load_mpi(MPI_Comm comm, const char *path, gfmd_sim **out, char 
     };
     report("");
     if (out != nullptr) *out = nullptr;
-    int up = 0, down = 0;
-    if (MPI_Initialized(&up) != MPI_SUCCESS || MPI_Finalized(&down) != MPI_SUCCESS || !up || down) {
-        report("MPI is not initialized (or already finalized): call MPI_Init first");
+    if (!gfmd::mpi_usable()) {
+        report(kNoMpi);
         return GFMD_ERR_STATE;
     }
     // The same path everywhere (and out and path given everywhere), before anything collective.
-    uint64_t print[2] = {gfmd::capi::args(path, out), 0};
-    print[1] = ~print[0];
-    if (MPI_Allreduce(MPI_IN_PLACE, print, 2, MPI_UINT64_T, MPI_MAX, comm) != MPI_SUCCESS) return GFMD_ERR_MPI;
-    if (print[0] != ~print[1]) {
-        report("a collective call got other arguments on another rank (values, or which pointers are NULL)");
+    if (!gfmd::same_everywhere(comm, gfmd::capi::args(path, out))) {
+        report(gfmd::capi::kOtherArguments);
         return GFMD_ERR_INVALID_ARG;
     }
     std::unique_ptr<gfmd_sim> handle;

@@ -68,7 +68,6 @@ void FftGrid::distribute(const Distribution *dist) {
     check_mpi(MPI_Comm_set_errhandler(st->dist.comm, MPI_ERRORS_RETURN), "MPI_Comm_set_errhandler");
     check_mpi(MPI_Comm_size(st->dist.comm, &ranks_), "MPI_Comm_size");
     check_mpi(MPI_Comm_rank(st->dist.comm, &rank_), "MPI_Comm_rank");
-    const ptrdiff_t n[2] = {static_cast<ptrdiff_t>(ny_), static_cast<ptrdiff_t>(nx_)};
     const ptrdiff_t spectrum[2] = {static_cast<ptrdiff_t>(ny_), static_cast<ptrdiff_t>(nxh())};
     const ptrdiff_t columns[2] = {static_cast<ptrdiff_t>(nxh()), static_cast<ptrdiff_t>(ny_)};
     ptrdiff_t rows = 0, y0 = 0, cols = 0, kx0 = 0, trows = 0, ty0 = 0, tcols = 0, tkx0 = 0;
@@ -81,7 +80,6 @@ void FftGrid::distribute(const Distribution *dist) {
         talloc = fftw_mpi_local_size_many_transposed(2, columns, 2, kMpiBlock, kMpiBlock, st->dist.comm, &tcols, &tkx0,
                                                      &trows, &ty0);
     }
-    (void)n;
     if (tcols != cols || tkx0 != kx0 || trows != rows || (rows > 0 && ty0 != y0))
         fail(GFMD_ERR_INTERNAL, "FFTW-MPI's transpose splits the grid unlike its transform");
     local_rows_ = rows;
@@ -191,10 +189,17 @@ int32_t FftGrid::agree(int32_t status, std::string &message) const {
     return agree_on(mpi_->dist.comm, status, message);
 }
 
-bool FftGrid::same_on_all_ranks(uint64_t fingerprint) const {
-    uint64_t v[2] = {fingerprint, ~fingerprint};  // max of both: equal everywhere iff max = -min
-    if (MPI_Allreduce(MPI_IN_PLACE, v, 2, MPI_UINT64_T, MPI_MAX, mpi_->dist.comm) != MPI_SUCCESS) return false;
+bool FftGrid::same_on_all_ranks(uint64_t fingerprint) const { return same_everywhere(mpi_->dist.comm, fingerprint); }
+
+bool same_everywhere(MPI_Comm comm, uint64_t fingerprint) noexcept {
+    uint64_t v[2] = {fingerprint, ~fingerprint};  // the largest of x and of ~x: x is the same everywhere iff they agree
+    if (MPI_Allreduce(MPI_IN_PLACE, v, 2, MPI_UINT64_T, MPI_MAX, comm) != MPI_SUCCESS) return false;
     return v[0] == ~v[1];
+}
+
+bool mpi_usable() noexcept {
+    int up = 0, down = 0;
+    return MPI_Initialized(&up) == MPI_SUCCESS && MPI_Finalized(&down) == MPI_SUCCESS && up && !down;
 }
 
 void FftGrid::gather_column0_distributed(const std::complex<double> *local, std::complex<double> *all) const {

@@ -30,6 +30,11 @@ void local_slab(MPI_Comm comm, int64_t nx, int64_t ny, int64_t &local_ny, int64_
 // GFMD_ERR_NOMEM on every rank if any rank's slab of a handle does not fit.  Collective.
 void check_slab_memory(const Distribution &dist, int64_t nx, int64_t ny);
 
+// True if every rank of comm passed the same fingerprint.  Collective.
+bool same_everywhere(MPI_Comm comm, uint64_t fingerprint) noexcept;
+// True between MPI_Init and MPI_Finalize.
+bool mpi_usable() noexcept;
+
 struct MpiState {
     MpiState() = default;
     MpiState(const MpiState &) = delete;

@@ -212,39 +212,37 @@ static unsigned char *read_all(const char *path, long *n) {
     return buf;
 }
 
-/* Write buf[0..n) to path with a fresh FNV-1a hash in its last 8 bytes (little-endian), as a
- * forger or an older library would. */
-static void write_rehashed(const char *path, unsigned char *buf, long n) {
-    uint64_t h = 0xcbf29ce484222325ULL;
-    for (long i = 0; i < n - 8; ++i) h = (h ^ buf[i]) * 0x100000001b3ULL;
-    for (int k = 0; k < 8; ++k) buf[n - 8 + k] = (unsigned char)(h >> (8 * k));
+static void write_raw(const char *path, const unsigned char *buf, long n) {
     FILE *f = fopen(path, "wb");
     assert_int_equal(fwrite(buf, 1, (size_t)n, f), (size_t)n);
     fclose(f);
+}
+
+/* FNV-1a 64 of n bytes, continuing from h. */
+static uint64_t fnv(uint64_t h, const unsigned char *b, long n) {
+    for (long i = 0; i < n; ++i) h = (h ^ b[i]) * 0x100000001b3ULL;
+    return h;
+}
+
+static void put_le(uint64_t x, unsigned char *b) {
+    for (int k = 0; k < 8; ++k) b[k] = (unsigned char)(x >> (8 * k));
+}
+
+/* Write buf[0..n) to path with a fresh FNV-1a hash in its last 8 bytes (little-endian), as a
+ * forger or an older library would. */
+static void write_rehashed(const char *path, unsigned char *buf, long n) {
+    put_le(fnv(0xcbf29ce484222325ULL, buf, n - 8), buf + n - 8);
+    write_raw(path, buf, n);
 }
 
 /* The same for format 5: buf[0..n) with k fields, its row hashes recomputed and then the hash of
  * the header and the row hashes, as a forger would. */
 static void write_rehashed5(const char *path, unsigned char *buf, long n, int k) {
     const long table = n - 8 - 8L * k * NY, fields_at = table - 8L * k * NX * NY;
-    uint64_t h = 0xcbf29ce484222325ULL;
-    for (long i = 0; i < fields_at; ++i) h = (h ^ buf[i]) * 0x100000001b3ULL;
-    for (long row = 0; row < k * NY; ++row) {
-        uint64_t r = 0xcbf29ce484222325ULL;
-        for (long i = 0; i < 8L * NX; ++i) r = (r ^ buf[fields_at + row * 8L * NX + i]) * 0x100000001b3ULL;
-        for (int b = 0; b < 8; ++b) buf[table + 8 * row + b] = (unsigned char)(r >> (8 * b));
-    }
-    for (long i = table; i < n - 8; ++i) h = (h ^ buf[i]) * 0x100000001b3ULL;
-    for (int b = 0; b < 8; ++b) buf[n - 8 + b] = (unsigned char)(h >> (8 * b));
-    FILE *f = fopen(path, "wb");
-    assert_int_equal(fwrite(buf, 1, (size_t)n, f), (size_t)n);
-    fclose(f);
-}
-
-static void write_raw(const char *path, const unsigned char *buf, long n) {
-    FILE *f = fopen(path, "wb");
-    assert_int_equal(fwrite(buf, 1, (size_t)n, f), (size_t)n);
-    fclose(f);
+    for (long row = 0; row < k * NY; ++row)
+        put_le(fnv(0xcbf29ce484222325ULL, buf + fields_at + row * 8L * NX, 8L * NX), buf + table + 8 * row);
+    put_le(fnv(fnv(0xcbf29ce484222325ULL, buf, fields_at), buf + table, n - 8 - table), buf + n - 8);
+    write_raw(path, buf, n);
 }
 
 /* Format 5's two hashes: a field byte changed under an intact table and final hash is caught by

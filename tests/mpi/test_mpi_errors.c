@@ -8,21 +8,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-static int failures = 0;
-static int rank = 0, size = 1;
+#include "mpi_check.h"
 
-#define CHECK(cond, ...)                                                      \
-    do {                                                                      \
-        if (!(cond)) {                                                        \
-            ++failures;                                                       \
-            fprintf(stderr, "rank %d, %s:%d: ", rank, __FILE__, __LINE__);    \
-            fprintf(stderr, __VA_ARGS__);                                     \
-            fprintf(stderr, "\n");                                            \
-        }                                                                     \
-    } while (0)
-
-#define OK(call) CHECK((call) == GFMD_OK, "%s failed", #call)
-
+static int size = 1;
 enum { kNx = 24, kNy = 20 };
 
 /* Every rank got `status` == expected, and the same message on every rank (compared on rank 0). */

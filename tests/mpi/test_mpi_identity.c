@@ -16,20 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-static int failures = 0;
-static int world_rank = 0;
-
-#define CHECK(cond, ...)                                                \
-    do {                                                                \
-        if (!(cond)) {                                                  \
-            ++failures;                                                 \
-            fprintf(stderr, "rank %d, %s:%d: ", world_rank, __FILE__, __LINE__); \
-            fprintf(stderr, __VA_ARGS__);                               \
-            fprintf(stderr, "\n");                                      \
-        }                                                               \
-    } while (0)
-
-#define OK(call) CHECK((call) == GFMD_OK, "%s failed", #call)
+#include "mpi_check.h"
 
 typedef struct {
     const char *name;
@@ -139,13 +126,13 @@ int main(int argc, char **argv) {
     int provided = 0;
     MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
     int size = 1;
-    MPI_Comm_rank(MPI_COMM_WORLD, &world_rank);
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     MPI_Comm_size(MPI_COMM_WORLD, &size);
     enum { kMaxRanks = 8 };
     if (size > kMaxRanks) size = kMaxRanks;
     /* comms[k]: world ranks 0 .. k (k + 1 ranks). */
     MPI_Comm comms[kMaxRanks];
-    for (int k = 0; k < size; ++k) MPI_Comm_split(MPI_COMM_WORLD, world_rank <= k ? 0 : MPI_UNDEFINED, world_rank, &comms[k]);
+    for (int k = 0; k < size; ++k) MPI_Comm_split(MPI_COMM_WORLD, rank <= k ? 0 : MPI_UNDEFINED, rank, &comms[k]);
 
     const Case cases[] = {
         {"half-space FIRE 64x48", 64, 48, GFMD_GREEN_HALFSPACE, 0.0, 0.0, GFMD_SOLVER_FIRE, 0.0, 0.02},
@@ -167,7 +154,7 @@ int main(int argc, char **argv) {
             serial.z = calloc((size_t)n, sizeof(double));
             serial.p = calloc((size_t)n, sizeof(double));
             serial.h = calloc((size_t)n, sizeof(double));
-            if (world_rank == 0) run_serial(c, steps, &serial);
+            if (rank == 0) run_serial(c, steps, &serial);
             const int runs = (pass == 0) ? size + 1 : 1;
             for (int k = 0; k < runs; ++k) {
                 dist[k].z = calloc((size_t)n, sizeof(double));
@@ -176,7 +163,7 @@ int main(int argc, char **argv) {
                 if (k < size) run_distributed(comms[k], c, steps, 1, &dist[k]);
                 else run_distributed(comms[size - 1], c, steps, 2, &dist[k]);
             }
-            if (world_rank == 0) {
+            if (rank == 0) {
                 for (int k = 1; k < runs; ++k) {
                     CHECK(memcmp(dist[k].z, dist[0].z, sizeof(double) * (size_t)n) == 0 &&
                               memcmp(dist[k].p, dist[0].p, sizeof(double) * (size_t)n) == 0 &&
@@ -234,7 +221,7 @@ int main(int argc, char **argv) {
         if (comms[k] != MPI_COMM_NULL) MPI_Comm_free(&comms[k]);
     int total = 0;
     MPI_Allreduce(&failures, &total, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
-    if (world_rank == 0) printf("test_mpi_identity on %d ranks: %s (%d failures)\n", size, total ? "FAILED" : "passed", total);
+    if (rank == 0) printf("test_mpi_identity on %d ranks: %s (%d failures)\n", size, total ? "FAILED" : "passed", total);
     MPI_Finalize();
     return total ? 1 : 0;
 }

@@ -1,0 +1,23 @@
+/* The MPI tests' checks: a failed CHECK prints its rank and place and counts; main() adds the
+ * counts of all ranks at the end (MPI_Allreduce) and fails if any rank failed. */
+#ifndef GFMD_TESTS_MPI_CHECK_H
+#define GFMD_TESTS_MPI_CHECK_H
+
+#include <stdio.h>
+
+static int failures = 0;
+static int rank = 0;
+
+#define CHECK(cond, ...)                                                   \
+    do {                                                                   \
+        if (!(cond)) {                                                     \
+            ++failures;                                                    \
+            fprintf(stderr, "rank %d, %s:%d: ", rank, __FILE__, __LINE__); \
+            fprintf(stderr, __VA_ARGS__);                                  \
+            fprintf(stderr, "\n");                                         \
+        }                                                                  \
+    } while (0)
+
+#define OK(call) CHECK((call) == GFMD_OK, "%s failed", #call)
+
+#endif
