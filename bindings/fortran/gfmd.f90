@@ -13,7 +13,7 @@
 module gfmd
   use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr, c_associated, c_char, c_double, c_int32_t, c_int64_t
   use gfmd_c_api
-  use gfmd_report, only: c_string, finish, gfmd_status_string, handle_message
+  use gfmd_report, only: c_string, finish, gfmd_status_string, handle_message, buffer_text
   implicit none
   private
 
@@ -273,20 +273,13 @@ contains
     type(c_ptr) :: p
     integer(c_int32_t) :: st
     character(kind=c_char) :: buf(512)
-    character(len=512) :: msg
-    integer :: i
     buf = char(0)
     st = c_gfmd_sim_load(c_path(path), p, buf, int(size(buf), c_int64_t))
     if (st == GFMD_OK) then
       call c_gfmd_sim_destroy(self%ptr)
       self%ptr = p
     end if
-    msg = ''
-    do i = 1, size(buf)
-      if (buf(i) == char(0)) exit
-      msg(i:i) = buf(i)
-    end do
-    call finish(c_null_ptr, st, 'load', stat, errmsg, trim(msg))
+    call finish(c_null_ptr, st, 'load', stat, errmsg, buffer_text(buf))
   end subroutine sim_load
 
   !> Threads of this simulation (0 = all cores).

@@ -19,7 +19,7 @@ module gfmd_mpi
                                          c_int, c_int32_t, c_int64_t
   use mpi_f08, only: MPI_Comm
   use gfmd, only: gfmd_sim_t, gfmd_sim_adopt, gfmd_sim_c_handle, dp, GFMD_OK, GFMD_PLANNER_MEASURE
-  use gfmd_report, only: finish
+  use gfmd_report, only: finish, buffer_text
   implicit none
   private
 
@@ -162,18 +162,11 @@ contains
     type(c_ptr) :: p
     integer(c_int32_t) :: st
     character(kind=c_char) :: buf(512)
-    character(len=512) :: msg
-    integer :: i
     buf = c_null_char
     p = c_null_ptr
     st = c_load(int(comm, c_int), trim(path) // c_null_char, p, buf, int(size(buf), c_int64_t))
     if (st == GFMD_OK) call gfmd_sim_adopt(sim, p)
-    msg = ''
-    do i = 1, size(buf)
-      if (buf(i) == c_null_char) exit
-      msg(i:i) = buf(i)
-    end do
-    call finish(c_null_ptr, st, 'load', stat, errmsg, trim(msg))
+    call finish(c_null_ptr, st, 'load', stat, errmsg, buffer_text(buf))
   end subroutine load_int
 
   subroutine load_f08(sim, path, comm, stat, errmsg)

@@ -6,7 +6,7 @@ module gfmd_report
   use gfmd_c_api, only: c_strlen, c_gfmd_last_error, c_gfmd_last_error_length, c_gfmd_status_string
   implicit none
   private
-  public :: c_string, handle_message, finish, gfmd_status_string
+  public :: c_string, handle_message, finish, gfmd_status_string, buffer_text
 
   integer(c_int32_t), parameter :: OK = 0, ERR_NULL = 1
 
@@ -80,5 +80,21 @@ contains
     character(:), allocatable :: s
     s = c_string(c_gfmd_status_string(int(status, c_int32_t)))
   end function gfmd_status_string
+
+  !> The text in a NUL-terminated character buffer the library wrote (a load's errbuf).
+  function buffer_text(buf) result(msg)
+    character(kind=c_char), intent(in) :: buf(:)
+    character(:), allocatable :: msg
+    integer :: i, n
+    n = 0
+    do i = 1, size(buf)
+      if (buf(i) == char(0)) exit
+      n = i
+    end do
+    allocate (character(len=n) :: msg)
+    do i = 1, n
+      msg(i:i) = buf(i)
+    end do
+  end function buffer_text
 
 end module gfmd_report
