@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <complex>
 #include <cstring>
 #include <mutex>
 #include <new>
@@ -88,6 +89,8 @@ void FftGrid::distribute(const Distribution *) {}
 void FftGrid::replan_distributed(ThreadPool &, int32_t) {}
 void FftGrid::gather_column0_distributed(const std::complex<double> *, std::complex<double> *) const {}
 void FftGrid::gather_rows_distributed(const void *, std::size_t, void *) const {}
+void FftGrid::send_rows_distributed(const FftGrid &, const int64_t *, const std::complex<double> *, int64_t,
+                                    std::complex<double> *) const {}
 #endif
 
 void FftGrid::gather_rows(const void *local, std::size_t row_bytes, void *all) const {
@@ -96,6 +99,14 @@ void FftGrid::gather_rows(const void *local, std::size_t row_bytes, void *all) c
         return;
     }
     gather_rows_distributed(local, row_bytes, all);
+}
+
+void FftGrid::send_rows(const FftGrid &to, const int64_t *dest, const std::complex<double> *rows, int64_t width,
+                        std::complex<double> *out) const {
+    if (mpi_) return send_rows_distributed(to, dest, rows, width, out);
+    std::fill(out, out + to.complex_size(), std::complex<double>(0.0, 0.0));
+    for (int64_t r = 0; r < local_rows_; ++r)
+        if (dest[r] >= 0) std::copy(rows + r * width, rows + (r + 1) * width, out + dest[r] * to.nxh());
 }
 
 void FftGrid::gather_column0(const std::complex<double> *local, std::complex<double> *all) const {

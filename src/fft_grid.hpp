@@ -138,6 +138,11 @@ public:
     // Every rank's rows of per-row records (row_bytes each, local_mode_rows() of them) gathered
     // into all (ny records, in global row order) on every rank.
     void gather_rows(const void *local, std::size_t row_bytes, void *all) const;
+    // Rows of a spectrum to another grid's layout: local row r of this grid (width complex values
+    // at rows[r * width]) becomes row dest[r] of `to` (-1: dropped), its first `width` modes; all
+    // other modes of `to`'s local array out are zero.  Collective; both grids on the same ranks.
+    void send_rows(const FftGrid &to, const int64_t *dest, const std::complex<double> *rows, int64_t width,
+                   std::complex<double> *out) const;
     // The modes kx = 0 of every ky (ny values, all ranks), from a local complex array.
     void gather_column0(const std::complex<double> *local, std::complex<double> *all) const;
 
@@ -189,6 +194,8 @@ private:
     void replan_distributed(ThreadPool &pool, int32_t planner);
     void gather_column0_distributed(const std::complex<double> *local, std::complex<double> *all) const;
     void gather_rows_distributed(const void *local, std::size_t row_bytes, void *all) const;
+    void send_rows_distributed(const FftGrid &to, const int64_t *dest, const std::complex<double> *rows, int64_t width,
+                               std::complex<double> *out) const;
     void forward_distributed(const double *in, std::complex<double> *out) const;
     void backward_distributed(std::complex<double> *in, double *out) const;
     int64_t nx_, ny_;

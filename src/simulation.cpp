@@ -388,20 +388,25 @@ namespace {
 void copy_shared_modes(const FftGrid &from, const std::complex<double> *in, const FftGrid &to,
                        std::complex<double> *out, double scale) {
     const int64_t nxs = std::min(from.nx(), to.nx()), nys = std::min(from.ny(), to.ny());
-    const int64_t fxh = from.nxh(), txh = to.nxh();
-    std::fill(out, out + to.complex_size(), std::complex<double>(0.0, 0.0));
-    for (int64_t k = -(nys - 1) / 2; k <= (nys - 1) / 2; ++k) {
-        if (2 * std::abs(k) == nys) continue;
-        const int64_t fy = (k < 0) ? from.ny() + k : k, ty = (k < 0) ? to.ny() + k : k;
-        for (int64_t kx = 0; 2 * kx < nxs; ++kx) out[ty * txh + kx] = scale * in[fy * fxh + kx];
+    const int64_t fxh = from.nxh(), width = (nxs + 1) / 2;  // the kx with 2 kx < nxs
+    // Each local row of `from` goes to its row of `to` (or nowhere), its shared modes scaled.
+    std::vector<int64_t> dest(static_cast<std::size_t>(from.local_mode_rows()), -1);
+    std::vector<std::complex<double>> rows(dest.size() * static_cast<std::size_t>(width));
+    for (int64_t r = 0; r < from.local_mode_rows(); ++r) {
+        const int64_t fy = from.first_mode_row() + r;
+        const int64_t k = (2 * fy > from.ny()) ? fy - from.ny() : fy;  // signed wave number
+        if (2 * std::abs(k) >= nys) continue;                          // beyond the smaller grid, or its Nyquist
+        dest[static_cast<std::size_t>(r)] = (k < 0) ? to.ny() + k : k;
+        for (int64_t kx = 0; kx < width; ++kx) rows[static_cast<std::size_t>(r * width + kx)] = scale * in[r * fxh + kx];
     }
+    from.send_rows(to, dest.data(), rows.data(), width, out);
 }
 
 }  // namespace
 
 std::unique_ptr<Simulation> Simulation::coarsened() {
     auto c = std::make_unique<Simulation>(grid_.nx() / 2, grid_.ny() / 2, grid_.lx(), grid_.ly(), grid_.threads(),
-                                          GFMD_PLANNER_ESTIMATE);
+                                          GFMD_PLANNER_ESTIMATE, grid_.distribution());
     c->params_ = params_;
     c->body_ = make_body(c->grid_, params_.kind, params_.width, params_.e_star, params_.nu);
     c->dynamics_ = dynamics_for(c->params_, c->body_);
@@ -433,9 +438,6 @@ bool Simulation::relax_multilevel(double tol, int64_t max_steps, int levels, int
                                        std::to_string(grid_.nx()) + " x " + std::to_string(grid_.ny()));
     coarse_steps = 0;
     if (levels == 1) return relax(tol, max_steps, steps_taken);
-    if (grid_.distributed())
-        fail(GFMD_ERR_STATE, "a distributed handle relaxes from its own grid only (levels = 1): the coarse grids "
-                             "of the multilevel start are not distributed yet");
     undo_.save(fields_);  // a failure below restores the state of the call's start
     const std::vector<double> solver_state = solver_->state();
     try {

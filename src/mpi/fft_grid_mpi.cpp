@@ -223,6 +223,51 @@ void FftGrid::gather_rows_distributed(const void *local, std::size_t row_bytes, 
               "MPI_Allgatherv");
 }
 
+void FftGrid::send_rows_distributed(const FftGrid &to, const int64_t *dest, const std::complex<double> *rows,
+                                    int64_t width, std::complex<double> *out) const {
+    const MpiState &mine = *mpi_, &theirs = *to.mpi_;
+    // The rank of `to` that owns global row y.
+    const auto owner = [&](int64_t y) {
+        int r = 0;
+        while (r + 1 < ranks_ && !(y >= theirs.first_row_of[static_cast<std::size_t>(r)] &&
+                                   y < theirs.first_row_of[static_cast<std::size_t>(r)] + theirs.rows_of[static_cast<std::size_t>(r)]))
+            ++r;
+        return r;
+    };
+    // Each row travels as its destination row (exact in a double) and its modes, in row order.
+    const int64_t record = 1 + 2 * width;
+    std::vector<int> send_count(static_cast<std::size_t>(ranks_), 0), recv_count(send_count), send_at(send_count),
+        recv_at(send_count);
+    for (int64_t r = 0; r < local_rows_; ++r)
+        if (dest[r] >= 0) send_count[static_cast<std::size_t>(owner(dest[r]))] += static_cast<int>(record);
+    check_mpi(MPI_Alltoall(send_count.data(), 1, MPI_INT, recv_count.data(), 1, MPI_INT, mine.dist.comm), "MPI_Alltoall");
+    int sends = 0, recvs = 0;
+    for (int r = 0; r < ranks_; ++r) {
+        send_at[static_cast<std::size_t>(r)] = sends;
+        recv_at[static_cast<std::size_t>(r)] = recvs;
+        sends += send_count[static_cast<std::size_t>(r)];
+        recvs += recv_count[static_cast<std::size_t>(r)];
+    }
+    std::vector<double> send(static_cast<std::size_t>(std::max(sends, 1))), recv(static_cast<std::size_t>(std::max(recvs, 1)));
+    std::vector<int> fill(send_at);
+    for (int64_t r = 0; r < local_rows_; ++r) {
+        if (dest[r] < 0) continue;
+        double *p = send.data() + fill[static_cast<std::size_t>(owner(dest[r]))];
+        p[0] = static_cast<double>(dest[r]);
+        std::memcpy(p + 1, rows + r * width, static_cast<std::size_t>(width) * sizeof(std::complex<double>));
+        fill[static_cast<std::size_t>(owner(dest[r]))] += static_cast<int>(record);
+    }
+    check_mpi(MPI_Alltoallv(send.data(), send_count.data(), send_at.data(), MPI_DOUBLE, recv.data(), recv_count.data(),
+                            recv_at.data(), MPI_DOUBLE, mine.dist.comm),
+              "MPI_Alltoallv");
+    std::fill(out, out + to.complex_size(), std::complex<double>(0.0, 0.0));
+    for (int64_t at = 0; at + record <= recvs; at += record) {
+        const auto y = static_cast<int64_t>(recv[static_cast<std::size_t>(at)]);
+        std::memcpy(static_cast<void *>(out + (y - to.first_row()) * to.nxh()), recv.data() + at + 1,
+                    static_cast<std::size_t>(width) * sizeof(std::complex<double>));
+    }
+}
+
 void check_slab_memory(const Distribution &dist, int64_t nx, int64_t ny) {
     int64_t rows = 0, y0 = 0;
     local_slab(dist.comm, nx, ny, rows, y0);

@@ -1,6 +1,7 @@
 /* libgfmd_mpi's collective error model, under mpiexec: a bad value on one rank gives the same
  * status and message on every rank and changes nothing; arguments that differ between ranks are
- * refused everywhere; whole-grid calls refuse a handle on more than one rank; the local-slab
+ * refused everywhere; whole-grid calls refuse a handle on more than one rank; bad multilevel
+ * starts are refused everywhere; the local-slab
  * calls agree with gfmd_mpi_local_size(); a clone continues with the same bits. */
 #include <gfmd_mpi.h>
 #include <math.h>
@@ -135,7 +136,10 @@ int main(int argc, char **argv) {
     expect_everywhere(s, gfmd_get_pressure(s, whole), expect_whole, "gfmd_get_pressure");
     if (size > 1) expect_everywhere(s, gfmd_set_heights(s, whole), GFMD_ERR_STATE, "gfmd_set_heights");
     int64_t steps = 0, coarse = 0;
-    expect_everywhere(s, gfmd_relax_multilevel(s, 1e-6, 100, 2, &steps, &coarse), GFMD_ERR_STATE, "multilevel start");
+    expect_everywhere(s, gfmd_relax_multilevel(s, 1e-6, 100, 0, &steps, &coarse), GFMD_ERR_INVALID_ARG,
+                      "multilevel start with 0 levels");
+    expect_everywhere(s, gfmd_relax_multilevel(s, 1e-6, 100, 4, &steps, &coarse), GFMD_ERR_INVALID_ARG,
+                      "multilevel start deeper than the grid allows");
     CHECK(same_state(s, rows, h0, z0, obs0), "refused calls changed the state");
     free(whole);
 
