@@ -2,16 +2,22 @@
  * memory, and the same problem solved by a constrained-CG reference (Polonsky-Keer) in the same
  * run, for half-space and layers on a fluid foundation.
  *
- *   gfmd_bench [--sizes 256,512,1024,2048] [--big] [--widths 0,0.5,1,4] [--threads N]
+ *   gfmd_bench [--sizes 256,512,1024,2048] [--widths 0,0.5,1,4] [--threads N]
  *              [--cg-seconds S] [--no-cg] [--no-alt] [--sigma0 S] [--solver auto|fire|mass|verlet|cg]
  *   gfmd_bench ... --bonded NU   the layers bonded to a rigid base (Poisson's ratio NU) instead of on a
  *                                fluid foundation, in both GFMD and the CG reference
  *   gfmd_bench --contention [--sizes 512,1024,2048]
  *   gfmd_bench --loads 0.002,0.01,0.05,0.2 [--sizes 256] [--widths 0.25,1,4]
- *                                FIRE against CG from flat at each load, layers on a fluid
- *                                foundation, with Persson's A/A0 at the load and the default's choice
+ *                                FIRE, mass-weighted FIRE and CG from flat at each load, layers on
+ *                                a fluid foundation, with Persson's A/A0 at the load, f(q_min w)
+ *                                and the default's choice
  *   gfmd_bench --multilevel [--sizes 256] [--widths 0.0625,0.125] [--sigma0 S] [--solver fire|mass]
  *                                gfmd_relax_multilevel with 1-4 levels from flat, to 1e-10
+ *   gfmd_bench --first-load [--sizes 512,1024,2048] [--widths 0.0625,0.25] [--threads N]
+ *                                a thin sheet's first load from flat, with and without adhesion,
+ *                                by the default solver, mass-weighted FIRE and the multilevel start
+ *   gfmd_bench --big [--sigma0 S] [--threads 2] [--sizes 4096]
+ *                                one W = 1 layer from flat to the default tolerance at 4096^2
  *
  * --contention: threads on a shared machine.  For each size, a half-space (seed 1, sigma0 = 0.05)
  * is created (planning included) and relaxed from flat to the default tolerance with one thread
@@ -181,23 +187,27 @@ static gfmd_sim *bench_body(int n, double W, double sigma0, int32_t solver) {
     return s;
 }
 
-/* --loads: FIRE and CG from flat to the default tolerance at each load. */
+/* --loads: FIRE, mass-weighted FIRE and CG from flat to the default tolerance at each load, with
+ * the default's choice (from the same flat start) and f(q_min w), the long-wave softness of the
+ * layer against the half-space (1 for the half-space, 6/(q_min w)^3 for a thin plate). */
 static int loads_table(const double *sizes, int nsizes, const double *widths, int nwidths, const double *loads,
                        int nloads) {
     const char *names[] = {"Verlet", "FIRE", "mass", "CG", "auto"};
-    printf("gfmd %s: FIRE against CG from flat, layers on a fluid foundation (w = 4 W a), H = 0.8, lambda_s = 4a, "
-           "lambda_r = n a/8, seed 2016, one thread, default tolerance\n", gfmd_version());
-    printf("%5s %6s %8s | %8s %8s | %7s %8s | %7s %8s | %7s | %6s\n", "n", "W", "sigma0", "A/A0", "Persson", "FIRE",
-           "s", "CG its", "s", "CG/FIRE", "auto");
+    const int32_t solvers[3] = {GFMD_SOLVER_FIRE, GFMD_SOLVER_FIRE_MASS, GFMD_SOLVER_CG};
+    printf("gfmd %s: FIRE, mass-weighted FIRE and CG from flat, layers on a fluid foundation (w = 4 W a), H = 0.8, "
+           "lambda_s = 4a, lambda_r = n a/8, seed 2016, one thread, default tolerance\n", gfmd_version());
+    printf("%5s %6s %9s %8s | %8s %8s | %7s %8s | %7s %8s | %7s %8s | %6s\n", "n", "W", "f(qmin w)", "sigma0", "A/A0",
+           "Persson", "FIRE", "s", "mass", "s", "CG its", "s", "auto");
     for (int a = 0; a < nsizes; ++a)
         for (int b = 0; b < nwidths; ++b)
             for (int c = 0; c < nloads; ++c) {
                 const int n = (int)sizes[a];
-                double secs[2], area = 0.0, persson = 0.0;
-                int64_t steps[2];
+                double secs[3], area = 0.0, persson = 0.0, f = 1.0;
+                int64_t steps[3];
                 int32_t choice = -1;
-                for (int k = 0; k < 2; ++k) {
-                    gfmd_sim *s = bench_body(n, widths[b], loads[c], k ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE);
+                gfmd_green_factor(GFMD_GREEN_LAYER_FLUID, 2.0 * 3.141592653589793 / n * 4.0 * widths[b], 0.0, &f);
+                for (int k = 0; k < 3; ++k) {
+                    gfmd_sim *s = bench_body(n, widths[b], loads[c], solvers[k]);
                     const double t0 = now();
                     int32_t st = gfmd_relax(s, 0.0, 10000000, &steps[k]);
                     secs[k] = now() - t0;
@@ -212,9 +222,9 @@ static int loads_table(const double *sizes, int nsizes, const double *widths, in
                     }
                     gfmd_sim_destroy(&s);
                 }
-                printf("%5d %6g %8g | %8.3f %8.3f | %7lld %8.3f | %7lld %8.3f | %7.2f | %6s\n", n, widths[b], loads[c],
-                       area, persson, (long long)steps[0], secs[0], (long long)steps[1], secs[1], secs[1] / secs[0],
-                       choice >= 0 && choice <= 4 ? names[choice] : "?");
+                printf("%5d %6g %9.3g %8g | %8.3f %8.3f | %7lld %8.3f | %7lld %8.3f | %7lld %8.3f | %6s\n", n, widths[b],
+                       widths[b] > 0 ? f : 1.0, loads[c], area, persson, (long long)steps[0], secs[0], (long long)steps[1],
+                       secs[1], (long long)steps[2], secs[2], choice >= 0 && choice <= 4 ? names[choice] : "?");
                 fflush(stdout);
             }
     return 0;
@@ -243,6 +253,128 @@ static int multilevel_table(const double *sizes, int nsizes, const double *width
                 fflush(stdout);
                 gfmd_sim_destroy(&s);
             }
+    return 0;
+}
+
+/* The load at which Persson's A/A0 = erf(sigma0/sqrt(2V)) equals `area` (the study's loads). */
+static double persson_load(gfmd_sim *s, double area) {
+    double v = 0.0, lo = 0.0, hi = 10.0;
+    int32_t st = gfmd_persson_variance(s, &v);
+    if (st != GFMD_OK) die(s, st, "persson variance");
+    for (int i = 0; i < 200; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        if (erf(mid) < area) lo = mid; else hi = mid;
+    }
+    return 0.5 * (lo + hi) * sqrt(2.0 * v);
+}
+
+/* --first-load: a thin sheet's first load from flat (the study's first load: Persson's A/A0 =
+ * 0.004), without and with adhesion (gamma0 = 5e-4, rho = a), by each lever the library has: the
+ * default solver, mass-weighted FIRE, and the multilevel start (3 levels, default solver).  Steps
+ * and seconds to the default tolerance, and (chunks of 5 steps) until A/A0 stays within 0.1 % of
+ * the run's final value.  Mass-weighted FIRE is not run with adhesion beyond 20 000 steps. */
+static int first_load_table(const double *sizes, int nsizes, const double *widths, int nwidths, int threads) {
+    const char *names[] = {"Verlet", "FIRE", "mass", "CG", "auto"};
+    printf("gfmd %s: a thin sheet's first load from flat (Persson A/A0 = 0.004), fluid foundation (w = 4 W a), "
+           "H = 0.8, lambda_s = 4a, lambda_r = n a/8, g = 1, seed 2016, %d thread(s), default tol %.0e\n",
+           gfmd_version(), threads, GFMD_DEFAULT_TOL);
+    printf("%5s %7s %4s %-10s | %8s | %7s %8s | %7s %8s\n", "n", "W", "adh", "lever", "A/A0", "steps", "s", "to 0.1%",
+           "s");
+    for (int a = 0; a < nsizes; ++a)
+        for (int b = 0; b < nwidths; ++b)
+            for (int adh = 0; adh < 2; ++adh)
+                for (int lever = 0; lever < 3; ++lever) {
+                    const int n = (int)sizes[a];
+                    const int32_t solver = lever == 1 ? GFMD_SOLVER_FIRE_MASS : GFMD_SOLVER_AUTO;
+                    gfmd_sim *s = bench_body(n, widths[b], 0.01, solver);
+                    int32_t st = gfmd_set_threads(s, threads);
+                    if (st == GFMD_OK && adh) st = gfmd_set_adhesion(s, 5e-4, 1.0);
+                    const double load = persson_load(s, 0.004);
+                    if (st == GFMD_OK) st = gfmd_reset(s);
+                    if (st == GFMD_OK) st = gfmd_set_pressure(s, load);
+                    if (st != GFMD_OK) die(s, st, "first-load body");
+                    int32_t active = -1;
+                    gfmd_get_solver(s, &active);
+                    double area = 0.0, residual = 1.0, t_acc = -1.0;
+                    int64_t steps = 0, steps_acc = -1;
+                    const double t0 = now();
+                    if (lever == 2) {
+                        int64_t coarse = 0;
+                        st = gfmd_relax_multilevel(s, 0.0, 10000000, 3, &steps, &coarse);
+                        if (st != GFMD_OK) die(s, st, "relax_multilevel");
+                        steps += coarse; /* coarse steps are cheaper, counted all the same */
+                        gfmd_get_contact_area(s, &area);
+                    } else {
+                        /* A/A0 every 5 steps; "to 0.1 %" is the last time it entered the final band */
+                        int64_t k = 0, cap = 1 << 14;
+                        double *trace = malloc(sizeof(double) * 2 * (size_t)cap);
+                        const int64_t limit = (adh && lever == 1) ? 20000 : 4000000;
+                        while (residual > GFMD_DEFAULT_TOL && steps < limit) {
+                            if ((st = gfmd_step(s, 5)) != GFMD_OK) die(s, st, "step");
+                            steps += 5;
+                            if (k == cap) trace = realloc(trace, sizeof(double) * 2 * (size_t)(cap *= 2));
+                            gfmd_get_contact_area(s, &trace[2 * k]);
+                            trace[2 * k + 1] = now() - t0;
+                            ++k;
+                            gfmd_get_residual(s, &residual);
+                        }
+                        area = trace[2 * (k - 1)];
+                        for (int64_t j = k - 1; j >= 0 && fabs(trace[2 * j] - area) <= 1e-3 * area; --j) {
+                            steps_acc = 5 * (j + 1);
+                            t_acc = trace[2 * j + 1];
+                        }
+                        free(trace);
+                    }
+                    const double t = now() - t0;
+                    char acc_steps[32] = "-", acc_s[32] = "-", total[32];
+                    if (steps_acc >= 0) {
+                        snprintf(acc_steps, sizeof acc_steps, "%lld", (long long)steps_acc);
+                        snprintf(acc_s, sizeof acc_s, "%.2f", t_acc);
+                    }
+                    if (residual > GFMD_DEFAULT_TOL && lever != 2) snprintf(total, sizeof total, ">%lld", (long long)steps);
+                    else snprintf(total, sizeof total, "%lld", (long long)steps);
+                    char what[32];
+                    snprintf(what, sizeof what, "%s%s", lever == 2 ? "ml3+" : "", names[active]);
+                    printf("%5d %7g %4s %-10s | %8.5f | %7s %8.2f | %7s %8s\n", n, widths[b], adh ? "yes" : "no", what,
+                           area, total, t, acc_steps, acc_s);
+                    fflush(stdout);
+                    gfmd_sim_destroy(&s);
+                }
+    return 0;
+}
+
+/* --big: one point at 4096^2 (or --sizes), a W = 1 layer on a fluid foundation from flat to the
+ * default tolerance with the default solver, on --threads threads (default 2): planning and
+ * relaxation timed apart. */
+static int big_point(const double *sizes, int nsizes, double sigma0, int threads) {
+    for (int a = 0; a < nsizes; ++a)
+        for (int levels = 1; levels <= 3; levels += 2) {
+            const int n = (int)sizes[a];
+            const double l = n, t0 = now();
+            gfmd_sim *s = NULL;
+            int32_t st = gfmd_sim_create_ex(n, n, l, l, threads, GFMD_PLANNER_MEASURE, &s);
+            if (st != GFMD_OK) die(NULL, st, "create");
+            const double t_create = now() - t0;
+            if ((st = gfmd_generate_selfaffine(s, 0.8, l / 8.0, 4.0, 1.0, 2016, GFMD_DIST_UNIFORM)) != GFMD_OK)
+                die(s, st, "substrate");
+            if ((st = gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 4.0)) != GFMD_OK) die(s, st, "green");
+            if ((st = gfmd_set_pressure(s, sigma0)) != GFMD_OK) die(s, st, "pressure");
+            int32_t active = -1;
+            gfmd_get_solver(s, &active);
+            int64_t steps = 0, coarse = 0;
+            const double t1 = now();
+            if ((st = gfmd_relax_multilevel(s, 0.0, 10000000, levels, &steps, &coarse)) != GFMD_OK) die(s, st, "relax");
+            const double t_relax = now() - t1;
+            double area = 0.0;
+            gfmd_get_contact_area(s, &area);
+            printf("big point: %d x %d, W = 1 on a fluid foundation, sigma0 = %g, %d threads, solver %s, %s: A/A0 = %.4f, "
+                   "%lld steps (+%lld on coarser grids), relax %.1f s (plan + create %.1f s)\n",
+                   n, n, sigma0, threads, active == GFMD_SOLVER_CG ? "CG" : active == GFMD_SOLVER_FIRE ? "FIRE" : "other",
+                   levels == 1 ? "from flat" : "multilevel start (3 levels)", area, (long long)steps, (long long)coarse,
+                   t_relax, t_create);
+            fflush(stdout);
+            gfmd_sim_destroy(&s);
+        }
     return 0;
 }
 
@@ -276,16 +408,18 @@ static int contention_table(const double *sizes, int nsizes) {
 
 int main(int argc, char **argv) {
     double sizes[8] = {256, 512, 1024, 2048}, widths[8] = {0, 0.5, 1, 4};
-    int nsizes = 4, nwidths = 4, threads = 1, cg = 1, alt = 1, contention = 0, multilevel = 0, nloads = 0;
+    int nsizes = 4, nwidths = 4, threads = 1, cg = 1, alt = 1, contention = 0, multilevel = 0, nloads = 0, big = 0,
+        first_load = 0, threads_given = 0, sizes_given = 0, widths_given = 0, sigma0_given = 0;
     double loads[8];
     double cg_seconds = 120.0, sigma0 = 0.05, bonded_nu = NAN;
     int32_t solver = GFMD_SOLVER_AUTO;
     const char *solver_names[] = {"Verlet", "FIRE", "mass", "CG", "auto"};
     for (int i = 1; i < argc; ++i) {
-        if (!strcmp(argv[i], "--sizes") && i + 1 < argc) nsizes = parse_list(argv[++i], sizes, 7);
-        else if (!strcmp(argv[i], "--big")) sizes[nsizes++] = 4096;
-        else if (!strcmp(argv[i], "--widths") && i + 1 < argc) nwidths = parse_list(argv[++i], widths, 8);
-        else if (!strcmp(argv[i], "--threads") && i + 1 < argc) threads = atoi(argv[++i]);
+        if (!strcmp(argv[i], "--sizes") && i + 1 < argc) nsizes = parse_list(argv[++i], sizes, 7), sizes_given = 1;
+        else if (!strcmp(argv[i], "--big")) big = 1;
+        else if (!strcmp(argv[i], "--first-load")) first_load = 1;
+        else if (!strcmp(argv[i], "--widths") && i + 1 < argc) nwidths = parse_list(argv[++i], widths, 8), widths_given = 1;
+        else if (!strcmp(argv[i], "--threads") && i + 1 < argc) threads = atoi(argv[++i]), threads_given = 1;
         else if (!strcmp(argv[i], "--cg-seconds") && i + 1 < argc) cg_seconds = atof(argv[++i]);
         else if (!strcmp(argv[i], "--no-cg")) cg = 0;
         else if (!strcmp(argv[i], "--no-alt")) alt = 0;
@@ -293,7 +427,7 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--loads") && i + 1 < argc) nloads = parse_list(argv[++i], loads, 8);
         else if (!strcmp(argv[i], "--multilevel")) multilevel = 1;
         else if (!strcmp(argv[i], "--bonded") && i + 1 < argc) bonded_nu = atof(argv[++i]);
-        else if (!strcmp(argv[i], "--sigma0") && i + 1 < argc) sigma0 = atof(argv[++i]);
+        else if (!strcmp(argv[i], "--sigma0") && i + 1 < argc) sigma0 = atof(argv[++i]), sigma0_given = 1;
         else if (!strcmp(argv[i], "--solver") && i + 1 < argc) {
             ++i;
             solver = !strcmp(argv[i], "mass") ? GFMD_SOLVER_FIRE_MASS : !strcmp(argv[i], "verlet") ? GFMD_SOLVER_VERLET
@@ -304,11 +438,22 @@ int main(int argc, char **argv) {
         if (solver < 0 || !(sigma0 > 0.0)) {
             fprintf(stderr, "usage: %s [--sizes 256,512,...] [--big] [--widths 0,0.5,1,4] [--threads N] "
                             "[--cg-seconds S] [--no-cg] [--no-alt] [--sigma0 S] [--solver auto|fire|mass|verlet|cg] "
-                            "[--bonded NU] | --contention\n", argv[0]);
+                            "[--bonded NU] | --contention | --loads L,.. | --multilevel | --first-load | --big\n", argv[0]);
             return 2;
         }
     }
     if (contention) return contention_table(sizes, nsizes);
+    if (big) {
+        const double big_size[1] = {4096};
+        /* sigma0 = 0.025 gives A/A0 ~ 0.1 on this body (0.118 at 0.03, 512^2) */
+        return big_point(sizes_given ? sizes : big_size, sizes_given ? nsizes : 1, sigma0_given ? sigma0 : 0.025,
+                         threads_given ? threads : 2);
+    }
+    if (first_load) {
+        const double thin[2] = {0.0625, 0.25}, first_sizes[3] = {512, 1024, 2048};
+        return first_load_table(sizes_given ? sizes : first_sizes, sizes_given ? nsizes : 3, widths_given ? widths : thin,
+                                widths_given ? nwidths : 2, threads < 1 ? 1 : threads);
+    }
     if (nloads > 0) return loads_table(sizes, nsizes, widths, nwidths, loads, nloads);
     if (multilevel) return multilevel_table(sizes, nsizes, widths, nwidths, sigma0, solver);
     const int32_t layer = isnan(bonded_nu) ? GFMD_GREEN_LAYER_FLUID : GFMD_GREEN_LAYER_BONDED;
