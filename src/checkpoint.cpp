@@ -7,17 +7,18 @@
 //   the parameters in the order of GFMD_PARAMS_LIST (params.hpp): f64 e_star; i32 kind;
 //     f64 width, nu, sigma0, gamma0, rho, dt_user, eta_user; i32 solver; i32 control; f64 mean_z
 //   i32 threads (informative; not restored), planner
+//   i32 active                          (the solver that steps: AUTO's choice, or the solver set)
 //   u32 count, f64 solver_state[count]  (the solver's adaptive state: FIRE's dt, alpha, count)
-//   u32 k                               (grid-sized fields of the solver's state: CG's pressure;
-//                                        with solver = AUTO, k > 0 says AUTO had chosen CG, else FIRE)
+//   u32 k                               (grid-sized fields of the solver's state: CG's pressure)
 //   f64 h[nx*ny], z[nx*ny], v[nx*ny]    (x fastest)
 //   f64 field[k][nx*ny]
 //   u64 row_hash[3 + k][ny]             FNV-1a of each row's 8 nx bytes, field by field
 //   u64 FNV-1a hash of the header (every byte before the fields) and then of the row hashes
 // The row hashes let every rank of a distributed grid check and hash its own rows: the table and
 // the file do not depend on how many ranks wrote it, and any number of ranks (or the serial
-// library) reads it.  Version 4 (read, not written) had no row hashes: its last 8 bytes hash every
-// byte before them.  Version 3 also had no k and no solver fields.  Version 2 had no control and
+// library) reads it.  Version 4 (read, not written) had no active solver and no row hashes: its
+// last 8 bytes hash every byte before them; with solver = AUTO, k > 0 says AUTO had chosen CG
+// (its only choices then were CG and FIRE).  Version 3 also had no k and no solver fields.  Version 2 had no control and
 // mean_z (pressure control).  Version 1 also had f64 fire_dt, fire_alpha; i64 fire_positive in
 // place of the solver state.  Readers refuse other magics, versions they do not know, unknown
 // flags, a length other than the header implies (before allocating anything), and hash mismatches.
@@ -138,6 +139,7 @@ struct Header {
     double lx = 0.0, ly = 0.0;
     Params params;
     int32_t planner = 0;
+    int32_t active = -1;  // format 5; -1 before
     std::vector<double> state;
     uint32_t solver_fields = 0;
     std::size_t length = 0;  // bytes before the fields
@@ -170,6 +172,7 @@ Header parse_header(const unsigned char *b, std::size_t n, const std::string &p)
 #undef GFMD_PARAM_READ
     r.i32();  // threads: recorded for information; the loading process keeps its own default
     hd.planner = r.i32();
+    if (hd.version >= 5) hd.active = r.i32();
     if (hd.version == 1) {
         hd.state.push_back(r.f64());
         hd.state.push_back(r.f64());
@@ -277,6 +280,7 @@ void Simulation::save(const char *path) const {
 #undef GFMD_PARAM_WRITE
     w.i32(grid_.threads());
     w.i32(grid_.planner());
+    w.i32(active_solver_);
     const std::vector<double> state = solver_->state();
     w.u32(static_cast<uint32_t>(state.size()));
     for (double x : state) w.f64(x);
@@ -412,12 +416,14 @@ std::unique_ptr<Simulation> Simulation::load(const char *path, const Distributio
         s->set_solver(params.solver);
         if (params.solver == GFMD_SOLVER_AUTO) {
             // The choice AUTO made when the load was set, not the one the loaded state would give
-            // now: of AUTO's two choices, CG keeps a grid-sized field of state and FIRE none.
-            const int32_t active = (hd.solver_fields > 0) ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE;
-            if (active != s->active_solver_) {
-                s->solver_ = make_solver(active, s->grid_, s->dynamics_);
-                s->active_solver_ = active;
-            }
+            // now.  Format 4 did not record it: its AUTO chose CG (a grid-sized field of state) or FIRE.
+            int32_t active = hd.active;
+            if (hd.version < 5) active = (hd.solver_fields > 0) ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE;
+            if (active == GFMD_SOLVER_AUTO) fail(GFMD_ERR_INVALID_ARG, "AUTO is not a solver that steps");
+            s->set_solver(active);  // the checks of a user's choice (CG and adhesion, mass and displacement)
+            s->params_.solver = GFMD_SOLVER_AUTO;
+        } else if (hd.version >= 5 && hd.active != params.solver) {
+            fail(GFMD_ERR_INVALID_ARG, "the solver that steps is not the solver set");
         }
         s->solver_->set_state(hd.state);
         s->solver_->set_grid_state(std::move(extra));

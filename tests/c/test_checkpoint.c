@@ -120,7 +120,7 @@ static void cg_restart_is_bit_exact(void **state) {
     TS_OK(a, gfmd_step(a, 7));
     TS_OK(a, gfmd_sim_save(a, PATH));
     /* one field more than FIRE's file: the pressure (and its row hashes); 7 numbers of state instead of 3 */
-    assert_int_equal(file_size(PATH), 8 + 8 + 32 + 9 * 8 + 3 * 4 + 8 + 4 + 7 * 8 + 4 + 4 * 8 * NX * NY + 4 * 8 * NY + 8);
+    assert_int_equal(file_size(PATH), 8 + 8 + 32 + 9 * 8 + 3 * 4 + 8 + 4 + 4 + 7 * 8 + 4 + 4 * 8 * NX * NY + 4 * 8 * NY + 8);
     expect_resumed(a, GFMD_SOLVER_CG, 9);
 }
 
@@ -160,7 +160,7 @@ static void damaged_files_are_refused(void **state) {
     /* format 5: magic, version + flags, grid, 9 f64 + 3 i32 parameters, threads + planner, the
      * solver state (count + FIRE's 3 numbers), the count of solver fields (0), three fields, a
      * hash per row of each field, the hash of header and row hashes */
-    assert_int_equal(n, 8 + 8 + 32 + 9 * 8 + 3 * 4 + 8 + 4 + 3 * 8 + 4 + 3 * 8 * NX * NY + 3 * 8 * NY + 8);
+    assert_int_equal(n, 8 + 8 + 32 + 9 * 8 + 3 * 4 + 8 + 4 + 4 + 3 * 8 + 4 + 3 * 8 * NX * NY + 3 * 8 * NY + 8);
 
     const long cuts[] = {0, 5, 12, 100, n / 2, n - 1};
     for (int i = 0; i < 6; ++i) {
@@ -252,7 +252,7 @@ static void row_hashes_are_checked(void **state) {
     gfmd_sim_destroy(&a);
     long n = 0;
     unsigned char *buf = read_all(PATH, &n);
-    const long z_byte = OFF_FIELDS + 8L * NX * NY + 8L * NX * 5; /* the lowest byte of z at (0, 5) */
+    const long z_byte = OFF_FIELDS + 4 + 8L * NX * NY + 8L * NX * 5; /* the lowest byte of z at (0, 5) (format 5: +4) */
     buf[z_byte] ^= 1;
     write_raw("damaged.gfmd", buf, n);
     expect_refused(GFMD_ERR_FORMAT, "a field byte under its row hash");
@@ -285,8 +285,10 @@ static void older_formats_resume(void **state) {
             TS_OK(a, gfmd_sim_save(a, PATH));
             long n4 = 0;
             unsigned char *v4 = read_all(PATH, &n4);
-            /* format 4: format 5 without the row hashes (3 fields here), one hash over all before it */
-            n4 -= 3 * 8 * NY;
+            /* format 4: format 5 without the active solver (4 bytes at OFF_COUNT) and the row
+             * hashes (3 fields here), one hash over all before it */
+            memmove(v4 + OFF_COUNT, v4 + OFF_COUNT + 4, (size_t)(n4 - OFF_COUNT - 4));
+            n4 -= 4 + 3 * 8 * NY;
             v4[OFF_VERSION] = 4;
             write_rehashed(PATH, v4, n4);
             if (version == 4) {
@@ -374,8 +376,8 @@ static void forged_headers_are_refused(void **state) {
     const int64_t big = 4096;
     memcpy(buf + OFF_NX, &big, 8);
     memcpy(buf + OFF_NX + 8, &big, 8);
-    memmove(buf + OFF_FIELDS, buf + n - 8, 8); /* a 180-byte file: header and hash only */
-    write_rehashed("damaged.gfmd", buf, OFF_FIELDS + 8);
+    memmove(buf + OFF_FIELDS + 4, buf + n - 8, 8); /* a 184-byte file: format 5's header and a hash only */
+    write_rehashed("damaged.gfmd", buf, OFF_FIELDS + 4 + 8);
     gfmd_sim *s = NULL;
     char msg[256] = "";
     assert_int_equal(gfmd_sim_load("damaged.gfmd", &s, msg, sizeof msg), GFMD_ERR_FORMAT);

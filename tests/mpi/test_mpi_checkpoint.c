@@ -160,7 +160,8 @@ int main(int argc, char **argv) {
         long n = 0;
         unsigned char *b = read_all(path, &n);
         const long k = 4; /* h, z, v and CG's pressure */
-        const long n4 = n - 8 * k * NY;
+        const long n4 = n - 4 - 8 * k * NY, active_at = 140; /* format 5's active solver, after the planner */
+        memmove(b + active_at, b + active_at + 4, (size_t)(n - active_at - 4));
         b[8] = 4;
         unsigned long long h = 0xcbf29ce484222325ULL;
         for (long i = 0; i < n4 - 8; ++i) h = (h ^ b[i]) * 0x100000001b3ULL;
