@@ -229,10 +229,8 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * not too soft, S sqrt(nx ny) <= 4e4 with S = k_halfspace(q_max)/k_min -- a bonded coating of any
  * Poisson's ratio, a half-space up to about 240^2 -- and on a layer on a fluid foundation where
  * Persson's A/A0 at the load is >= 0.3 and the body starts (nearly) flat, touching at most
- * 2 sqrt(nx ny) points; GFMD_SOLVER_FIRE_MASS on a layer on a fluid foundation under pressure
- * control where Persson's A/A0 at the load is < 0.05, with or without adhesion;
- * GFMD_SOLVER_FIRE otherwise; re-chosen whenever the body, the adhesion, the load or the load
- * control changes; the rule and its measurements are in docs/performance.md;
+ * 2 sqrt(nx ny) points; GFMD_SOLVER_FIRE otherwise; re-chosen whenever the body, the adhesion or
+ * the load control changes; the rule and its measurements are in docs/performance.md;
  * gfmd_get_solver() tells the choice),
  * GFMD_SOLVER_CG (constrained conjugate gradients: under pressure control on a half-space or a
  * bonded layer Polonsky & Keer's iteration on the contact pressure, about three FFT pairs an

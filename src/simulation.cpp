@@ -298,25 +298,17 @@ constexpr double kAutoCgBound = 4e4;
 // 0.27 -> 0.39: FIRE 312 steps, CG 678 iterations): CG only from a start that touches at most
 // 2 sqrt(N) points.
 constexpr double kAutoCgFluidArea = 0.3;
-// Below it, mass-weighted FIRE against FIRE on the same layers from flat (gfmd_bench --loads and
-// --first-load, 256^2 and 512^2, W = 0.0625 ... 4, with and without adhesion): 1.2-1.6x faster
-// where Persson's A/A0 at the load was < 0.05 (12 of 14 rows; the two others within 10 %), about
-// even at 0.1, slower at 0.08-0.12 (up to 1.4x): its steps cost two FFT pairs, and they pay where
-// few contacts leave long, soft waves between them.  Not under displacement control (refused there).
-constexpr double kAutoMassFluidArea = 0.05;
 
 int32_t Simulation::resolve_solver(int32_t requested) const {
     if (requested != GFMD_SOLVER_AUTO) return requested;
     // measured under pressure control only: displacement control keeps FIRE
-    if (params_.control != kPressureControl) return GFMD_SOLVER_FIRE;
-    const bool quadratic = !(params_.gamma0 > 0.0);
+    const bool quadratic = !(params_.gamma0 > 0.0) && params_.control == kPressureControl;
+    if (!quadratic) return GFMD_SOLVER_FIRE;
     if (params_.kind == GFMD_GREEN_LAYER_FLUID) {
         const double area = gfmd::persson_contact_area(gfmd::persson_variance(grid_, body_, fields_), params_.sigma0);
         const bool fresh = static_cast<double>(forces_.contacts) <= 2.0 * std::sqrt(static_cast<double>(grid_.real_size()));
-        if (quadratic && area >= kAutoCgFluidArea && fresh) return GFMD_SOLVER_CG;
-        return (area < kAutoMassFluidArea) ? GFMD_SOLVER_FIRE_MASS : GFMD_SOLVER_FIRE;
+        return (area >= kAutoCgFluidArea && fresh) ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE;
     }
-    if (!quadratic) return GFMD_SOLVER_FIRE;
     const double cost = long_wave_softness(grid_, body_, params_.e_star) * std::sqrt(static_cast<double>(grid_.real_size()));
     return (cost <= kAutoCgBound) ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE;
 }

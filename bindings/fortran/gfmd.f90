@@ -490,7 +490,7 @@ contains
     call finish(self%ptr, c_gfmd_set_damping(self%ptr, eta), 'set_damping', stat, errmsg)
   end subroutine sim_set_damping
 
-  !> GFMD_SOLVER_AUTO (default: CG, FIRE or mass-weighted FIRE, chosen from the body and the load), GFMD_SOLVER_FIRE, GFMD_SOLVER_CG
+  !> GFMD_SOLVER_AUTO (default: CG or FIRE, chosen from the body), GFMD_SOLVER_FIRE, GFMD_SOLVER_CG
   !> (non-adhesive), GFMD_SOLVER_FIRE_MASS (mass-weighted FIRE) or GFMD_SOLVER_VERLET.
   subroutine sim_set_solver(self, solver, stat, errmsg)
     class(gfmd_sim_t), intent(inout) :: self
