@@ -1,9 +1,9 @@
 // The grid and its FFT plumbing: the one internal interface behind which the layout of the
-// periodic nx x ny grid, its real-to-complex transforms and its threads live.  A distributed
-// version (FFTW MPI, one slab of rows per rank, real rows padded to 2*(nx/2+1)) replaces this class
-// without touching the solvers or the C API: they loop only through the grid's local extents
-// (for_points, sum_points, the mode rows) and every global sum ends in the grid's one reduction
-// call, reduce().
+// periodic nx x ny grid, its real-to-complex transforms and its threads live.  In libgfmd_mpi a
+// grid may be distributed (src/mpi/: FFTW-MPI, one slab of rows per rank) without the solvers or
+// the C API knowing: they loop only through the grid's local extents (for_points, sum_points, the
+// mode rows), every global sum is sum_points / sum_mode_rows (exact per-row sums when distributed),
+// and a check of one rank's data goes through on_all_ranks.
 #ifndef GFMD_SRC_FFT_GRID_HPP
 #define GFMD_SRC_FFT_GRID_HPP
 
