@@ -241,17 +241,22 @@ static void write_rehashed5(const char *path, unsigned char *buf, long n, int k)
     write_raw(path, buf, n);
 }
 
+/* The bytes of a fresh checkpoint of the FIRE body (n of them). */
+static unsigned char *saved_fire_file(long *n) {
+    gfmd_sim *a = make(GFMD_SOLVER_FIRE);
+    TS_OK(a, gfmd_sim_save(a, PATH));
+    gfmd_sim_destroy(&a);
+    return read_all(PATH, n);
+}
+
 /* Format 5's two hashes: a field byte changed under an intact table and final hash is caught by
  * its row's hash (each rank checks its own rows); a table entry changed under an intact final
  * hash by the final hash; the same change with both recomputed (as the test's own writer does)
  * loads, so the test's hashing is the library's. */
 static void row_hashes_are_checked(void **state) {
     (void)state;
-    gfmd_sim *a = make(GFMD_SOLVER_FIRE);
-    TS_OK(a, gfmd_sim_save(a, PATH));
-    gfmd_sim_destroy(&a);
     long n = 0;
-    unsigned char *buf = read_all(PATH, &n);
+    unsigned char *buf = saved_fire_file(&n);
     const long z_byte = OFF_FIELDS + 4 + 8L * NX * NY + 8L * NX * 5; /* the lowest byte of z at (0, 5) (format 5: +4) */
     buf[z_byte] ^= 1;
     write_raw("damaged.gfmd", buf, n);
@@ -364,11 +369,8 @@ static void older_formats_resume(void **state) {
  * claims a huge grid (refused from its length, before anything is allocated: the message says so). */
 static void forged_headers_are_refused(void **state) {
     (void)state;
-    gfmd_sim *a = make(GFMD_SOLVER_FIRE);
-    TS_OK(a, gfmd_sim_save(a, PATH));
-    gfmd_sim_destroy(&a);
     long n = 0;
-    unsigned char *buf = read_all(PATH, &n);
+    unsigned char *buf = saved_fire_file(&n);
     buf[OFF_FLAGS] = 1;
     write_rehashed5("damaged.gfmd", buf, n, 3);
     expect_refused(GFMD_ERR_FORMAT, "unknown flags");
