@@ -5,7 +5,7 @@
  *
  *   gfmd_paper [--n N] [--bandwidth R] [--full | --quick] [--out DIR] [--seed S] [--threads T]
  *              [--no-adhesion] [--widths 0,W1,W2,...] [--adh-widths W1,...] [--pulloff]
- *              [--solver auto|fire|mass|cg]
+ *              [--solver auto|fire|mass|cg] [--multilevel LEVELS]
  *
  * Surface: H = 0.8, lambda_s = 4a, lambda_r = R lambda_s, cell L = N a (default N = 256, R = 32,
  * L = 2 lambda_r; --full: N = 2048, R = 64, L = 8 lambda_r as in the paper; --quick, the test's
@@ -46,7 +46,7 @@ void die(const gfmd_sim *s, int32_t st, const char *what) {
 }
 
 static void usage(const char *argv0) {
-    fprintf(stderr, "usage: %s [--n N] [--bandwidth R] [--full | --quick] [--out DIR] [--seed S] [--threads T] [--no-adhesion] [--widths 0,W1,...] [--adh-widths W1,...] [--pulloff] [--solver auto|fire|mass|cg]\n",
+    fprintf(stderr, "usage: %s [--n N] [--bandwidth R] [--full | --quick] [--out DIR] [--seed S] [--threads T] [--no-adhesion] [--widths 0,W1,...] [--adh-widths W1,...] [--pulloff] [--solver auto|fire|mass|cg] [--multilevel LEVELS]\n",
             argv0);
     exit(2);
 }
@@ -57,7 +57,7 @@ static void set_widths(double *to, int *n, const double *from, int count) {
 }
 
 static options parse_options(int argc, char **argv) {
-    options o = {256, 32.0, 2016, 0, 1, 0, GFMD_SOLVER_AUTO, ".", {0}, {0}, 0, 0};
+    options o = {256, 32.0, 2016, 0, 1, 0, GFMD_SOLVER_AUTO, 1, ".", {0}, {0}, 0, 0};
     set_widths(o.widths, &o.n_widths, ALL_WIDTHS, COUNT(ALL_WIDTHS));
     set_widths(o.adh_widths, &o.n_adh, ALL_ADH_WIDTHS, COUNT(ALL_ADH_WIDTHS));
     for (int i = 1; i < argc; ++i) {
@@ -81,6 +81,7 @@ static options parse_options(int argc, char **argv) {
                 o.adh_widths[k++] = strtod(tok, NULL);
             o.n_adh = k;
         }
+        else if (!strcmp(argv[i], "--multilevel") && i + 1 < argc) o.levels = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--solver") && i + 1 < argc) {
             ++i;
             if (!strcmp(argv[i], "auto")) o.solver = GFMD_SOLVER_AUTO;
@@ -104,6 +105,10 @@ static options parse_options(int argc, char **argv) {
     }
     if (o.n < 32 || !(o.bandwidth >= 1.0) || o.bandwidth * LAMBDA_S > (double)o.n || o.threads < 0) {
         fprintf(stderr, "gfmd_paper: need --n >= 32 and 1 <= bandwidth <= n/4 (lambda_r = R * 4a within the cell)\n");
+        exit(2);
+    }
+    if (o.levels < 1 || o.levels > 8) {
+        fprintf(stderr, "gfmd_paper: --multilevel takes 1 (a flat start) to 8 levels\n");
         exit(2);
     }
     if (mkdir(o.dir, 0777) != 0 && errno != EEXIST) {
@@ -142,7 +147,7 @@ int main(int argc, char **argv) {
 
     /* Figs. 3, 4, 6: load sweeps without adhesion, with Persson's theory beside them */
     static sweep sw[MAX_BODIES];
-    for (int b = 0; b < o.n_widths; ++b) run_sweep(surface, o.widths[b], 0, u_max, o.solver, &sw[b]);
+    for (int b = 0; b < o.n_widths; ++b) run_sweep(surface, o.widths[b], 0, u_max, o.solver, o.levels, &sw[b]);
     write_load_tables(sw, &o);
     write_persson_curves(surface, sw, &o);
 
@@ -154,7 +159,7 @@ int main(int argc, char **argv) {
     /* Fig. 7: theta = U_el/U_ad with adhesion */
     if (o.adhesion) {
         static sweep ad[MAX_BODIES];
-        for (int b = 0; b < o.n_adh; ++b) run_sweep(surface, o.adh_widths[b], 1, u_max, o.solver, &ad[b]);
+        for (int b = 0; b < o.n_adh; ++b) run_sweep(surface, o.adh_widths[b], 1, u_max, o.solver, o.levels, &ad[b]);
         write_theta_tables(ad, &o);
         fit_theta(ad, &o, &f);
         /* Fig. 8: the pull-off stress of the same sheets, beside theta */

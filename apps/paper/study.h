@@ -34,6 +34,7 @@ typedef struct {
     int adhesion;           /* run the adhesive sweeps of Fig. 7 */
     int pulloff;            /* and the pull-off of each adhesive sheet (Fig. 8) */
     int32_t solver;         /* GFMD_SOLVER_* */
+    int levels;             /* the first load of each body: gfmd_relax_multilevel with these levels (1: flat start) */
     const char *dir;        /* output folder */
     double widths[MAX_BODIES], adh_widths[MAX_BODIES]; /* W = w/lambda_s, 0 = half-space first */
     int n_widths, n_adh;
@@ -78,7 +79,7 @@ double now(void);
 
 /* sweep.c */
 gfmd_sim *make_body(const gfmd_sim *surface, double W, int32_t solver);
-void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, int32_t solver, sweep *out);
+void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, int32_t solver, int levels, sweep *out);
 /* pulloff.c */
 void run_pulloff(const gfmd_sim *surface, double W, double u_max, int32_t solver, pulloff *out);
 /* fits.c */

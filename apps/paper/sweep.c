@@ -28,7 +28,7 @@ gfmd_sim *make_body(const gfmd_sim *surface, double W, int32_t solver) {
     return s;
 }
 
-void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, int32_t solver, sweep *out) {
+void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, int32_t solver, int levels, sweep *out) {
     /* CG refuses adhesion: the adhesive sweeps then take the library's automatic choice */
     gfmd_sim *s = make_body(surface, W, adhesive && solver == GFMD_SOLVER_CG ? GFMD_SOLVER_AUTO : solver);
     if (adhesive) CHECK(s, gfmd_set_adhesion(s, GAMMA0, RHO));
@@ -47,7 +47,12 @@ void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, in
         int64_t steps = 0;
         const double t0 = now();
         CHECK(s, gfmd_set_pressure(s, p->sigma0));
-        CHECK(s, gfmd_relax(s, 0.0, 2000000, &steps));
+        if (k == 0 && levels > 1) { /* the first load starts flat: from coarser grids (--multilevel) */
+            int64_t coarse = 0;
+            CHECK(s, gfmd_relax_multilevel(s, 0.0, 2000000, levels, &steps, &coarse));
+        } else {
+            CHECK(s, gfmd_relax(s, 0.0, 2000000, &steps));
+        }
         p->seconds = now() - t0;
         p->steps = (long long)steps;
         CHECK(s, gfmd_get_contact_area(s, &p->area));

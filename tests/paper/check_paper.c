@@ -101,9 +101,31 @@ static double area_at(const table *t, int r0, int r1, double load) {
     return NAN;
 }
 
+/* --same-equilibrium A B: two runs of the study that differ only in how each load was relaxed
+ * (gfmd_paper --multilevel): every load's A/A0 within one grid point and mean gap within 1e-4
+ * relative (both relax to the default tolerance, 1e-6 in the residual, from other starts), and
+ * the first load of at least one body took another number of steps (the other start did run). */
+static int same_equilibrium(const char *a_dir, const char *b_dir, double points) {
+    const char *header = "body,W,sigma0,sigma0_over_Eg,rel_area,persson_area,mean_gap,separation,u_el,steps,seconds";
+    const table *a = read_table(a_dir, "fig3_area.csv", header), *b = read_table(b_dir, "fig3_area.csv", header);
+    EXPECT(a->rows == b->rows && a->rows > 0, "fig3_area.csv: %d and %d rows", a->rows, b->rows);
+    int other_start = 0;
+    for (int r = 0; r < a->rows && r < b->rows; ++r) {
+        EXPECT(fabs(a->v[r][4] - b->v[r][4]) <= 1.0 / points + 1e-12, "row %d: A/A0 %.6g and %.6g", r + 1, a->v[r][4],
+               b->v[r][4]);
+        EXPECT(fabs(a->v[r][6] - b->v[r][6]) <= 1e-4 * fabs(a->v[r][6]), "row %d: mean gap %.8g and %.8g", r + 1,
+               a->v[r][6], b->v[r][6]);
+        if ((r == 0 || a->v[r][1] != a->v[r - 1][1]) && a->v[r][9] != b->v[r][9]) other_start = 1;
+    }
+    EXPECT(other_start, "no body's first load took another number of steps: the multilevel start did not run");
+    printf("%d loads: the same equilibrium from both starts\n", a->rows);
+    return failures ? 1 : 0;
+}
+
 int main(int argc, char **argv) {
+    if (argc == 5 && !strcmp(argv[1], "--same-equilibrium")) return same_equilibrium(argv[2], argv[3], atof(argv[4]));
     if (argc != 2) {
-        fprintf(stderr, "usage: %s DIR\n", argv[0]);
+        fprintf(stderr, "usage: %s DIR | --same-equilibrium DIR_A DIR_B GRID_POINTS\n", argv[0]);
         return 2;
     }
     const char *dir = argv[1];

@@ -1,0 +1,23 @@
+# gfmd_paper --multilevel: the study at 64^2 (half-space and two sheets, no adhesion) with each
+# body's first load relaxed from flat and from coarser grids reaches the same equilibria
+# (check_paper --same-equilibrium); a bad level count is refused with exit status 2.
+file(REMOVE_RECURSE ${OUT})
+file(MAKE_DIRECTORY ${OUT})
+set(args --n 64 --bandwidth 8 --widths 0,0.25,0.0625 --no-adhesion --threads 1)
+foreach(levels 1 3)
+  execute_process(COMMAND ${STUDY} ${args} --multilevel ${levels} --out ${OUT}/levels${levels}
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "gfmd_paper --multilevel ${levels} failed (${rc}):\n${out}${err}")
+  endif()
+endforeach()
+execute_process(COMMAND ${CHECK} --same-equilibrium ${OUT}/levels1 ${OUT}/levels3 4096
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+message("${out}${err}")
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "the multilevel start changed the study's equilibria")
+endif()
+execute_process(COMMAND ${STUDY} ${args} --multilevel 0 --out ${OUT}/bad RESULT_VARIABLE rc OUTPUT_QUIET ERROR_QUIET)
+if(NOT rc EQUAL 2)
+  message(FATAL_ERROR "gfmd_paper --multilevel 0 exited with ${rc}, not 2")
+endif()
