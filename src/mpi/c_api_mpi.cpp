@@ -72,13 +72,10 @@ int32_t gfmd_sim_create_mpi(MPI_Comm comm, int64_t nx, int64_t ny, double lx, do
     *out = nullptr;
     if (!gfmd::mpi_usable()) return GFMD_ERR_STATE;  // no communication possible: every rank sees the same
     std::string message;
-    // Checked everywhere before anything collective: the arguments agree, the slab fits.
+    // Checked everywhere before anything collective: the arguments are valid and agree.
     int32_t status = status_of([&] {
         gfmd::validate_grid(nx, ny, lx, ly);
         gfmd::validate_planner(planner);
-        int64_t rows = 0, y0 = 0;
-        gfmd::local_slab(comm, nx, ny, rows, y0);
-        gfmd::check_memory(nx, std::max<int64_t>(rows, 1));
     }, [&](const char *msg) { message = msg; });
     if (!gfmd::same_everywhere(comm, gfmd::capi::args(nx, ny, lx, ly, planner))) return GFMD_ERR_INVALID_ARG;
     status = gfmd::agree_on(comm, status, message);
@@ -87,6 +84,7 @@ int32_t gfmd_sim_create_mpi(MPI_Comm comm, int64_t nx, int64_t ny, double lx, do
     status = status_of([&] {
         handle = std::make_unique<gfmd_sim>();
         const gfmd::Distribution dist{comm};
+        gfmd::check_slab_memory(dist, nx, ny);  // collective: every rank's slab fits, or none is made
         handle->sim = std::make_unique<gfmd::Simulation>(nx, ny, lx, ly, 0, planner, &dist);
     }, [&](const char *msg) { message = msg; });
     status = gfmd::agree_on(comm, status, message);

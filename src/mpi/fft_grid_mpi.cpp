@@ -168,15 +168,17 @@ void FftGrid::backward_distributed(std::complex<double> *in, double *out) const 
 
 void FftGrid::reduce_exact(ExactSum *x, int k) const {
     if (!mpi_) return;
-    std::vector<int64_t> words(static_cast<std::size_t>(k) * ExactSum::kWords);
+    // On the stack: sums run every step, and a step allocates nothing.
+    constexpr int kMaxSums = 6;  // the most any caller reduces at once (the forces)
+    if (k > kMaxSums) fail(GFMD_ERR_INTERNAL, "too many sums in one reduction");
+    int64_t words[kMaxSums * ExactSum::kWords];
     for (int i = 0; i < k; ++i) {
         x[i].normalize();
-        std::copy(x[i].words(), x[i].words() + ExactSum::kWords, words.data() + i * ExactSum::kWords);
+        std::copy(x[i].words(), x[i].words() + ExactSum::kWords, words + i * ExactSum::kWords);
     }
-    check_mpi(MPI_Allreduce(MPI_IN_PLACE, words.data(), static_cast<int>(words.size()), MPI_INT64_T, MPI_SUM,
-                            mpi_->dist.comm),
+    check_mpi(MPI_Allreduce(MPI_IN_PLACE, words, k * ExactSum::kWords, MPI_INT64_T, MPI_SUM, mpi_->dist.comm),
               "MPI_Allreduce");
-    for (int i = 0; i < k; ++i) std::copy(words.data() + i * ExactSum::kWords, words.data() + (i + 1) * ExactSum::kWords, x[i].words());
+    for (int i = 0; i < k; ++i) std::copy(words + i * ExactSum::kWords, words + (i + 1) * ExactSum::kWords, x[i].words());
 }
 
 void FftGrid::reduce_max(double *x, int k) const {
