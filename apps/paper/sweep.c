@@ -64,5 +64,10 @@ void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, in
                p->persson, p->sep, p->u_el, p->u_ad, p->steps, p->seconds);
         fflush(stdout);
     }
+    double seconds = 0.0;
+    long long steps = 0;
+    for (int k = 0; k < N_LOADS; ++k) seconds += out->p[k].seconds, steps += out->p[k].steps;
+    printf("this body: %lld steps, %.2f s; its first load (from flat) %lld steps, %.2f s\n", steps, seconds,
+           out->p[0].steps, out->p[0].seconds);
     gfmd_sim_destroy(&s);
 }
