@@ -54,7 +54,14 @@ static int same_state(const gfmd_sim *s, int64_t rows, const double *h0, const d
 }
 
 int main(int argc, char **argv) {
+    /* Before MPI_Init: nothing can be agreed, so the calls refuse at once (and the same on every rank). */
+    gfmd_sim *early = (gfmd_sim *)&early;
+    const int32_t st_create = gfmd_sim_create_mpi(MPI_COMM_WORLD, kNx, kNy, kNx, kNy, GFMD_PLANNER_ESTIMATE, &early);
+    const int early_null = early == NULL;
+    const int32_t st_load = gfmd_sim_load_mpi(MPI_COMM_WORLD, "any.gfmd", &early, NULL, 0);
     MPI_Init(&argc, &argv);
+    CHECK(st_create == GFMD_ERR_STATE && early_null, "create before MPI_Init: status %d", st_create);
+    CHECK(st_load == GFMD_ERR_STATE && early == NULL, "load before MPI_Init: status %d", st_load);
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     MPI_Comm_size(MPI_COMM_WORLD, &size);
     gfmd_sim *s = NULL;
