@@ -4,7 +4,7 @@
  * --pulloff also the pull-off stress of each adhesive sheet (pulloff.c, Fig. 8).
  *
  *   gfmd_paper [--n N] [--bandwidth R] [--full | --quick] [--out DIR] [--seed S] [--threads T]
- *              [--no-adhesion] [--widths 0,W1,W2,...] [--adh-widths W1,...] [--pulloff]
+ *              [--no-adhesion | --adhesion-only] [--widths 0,W1,W2,...] [--adh-widths W1,...] [--pulloff]
  *              [--solver auto|fire|mass|cg] [--multilevel LEVELS]
  *
  * Surface: H = 0.8, lambda_s = 4a, lambda_r = R lambda_s, cell L = N a (default N = 256, R = 32,
@@ -46,7 +46,7 @@ void die(const gfmd_sim *s, int32_t st, const char *what) {
 }
 
 static void usage(const char *argv0) {
-    fprintf(stderr, "usage: %s [--n N] [--bandwidth R] [--full | --quick] [--out DIR] [--seed S] [--threads T] [--no-adhesion] [--widths 0,W1,...] [--adh-widths W1,...] [--pulloff] [--solver auto|fire|mass|cg] [--multilevel LEVELS]\n",
+    fprintf(stderr, "usage: %s [--n N] [--bandwidth R] [--full | --quick] [--out DIR] [--seed S] [--threads T] [--no-adhesion | --adhesion-only] [--widths 0,W1,...] [--adh-widths W1,...] [--pulloff] [--solver auto|fire|mass|cg] [--multilevel LEVELS]\n",
             argv0);
     exit(2);
 }
@@ -73,6 +73,7 @@ static options parse_options(int argc, char **argv) {
         else if (!strcmp(argv[i], "--seed") && i + 1 < argc) o.seed = strtoull(argv[++i], NULL, 10);
         else if (!strcmp(argv[i], "--threads") && i + 1 < argc) o.threads = strtol(argv[++i], NULL, 10);
         else if (!strcmp(argv[i], "--no-adhesion")) o.adhesion = 0;
+        else if (!strcmp(argv[i], "--adhesion-only")) o.n_widths = 0; /* Fig. 7 (and 8) alone */
         else if (!strcmp(argv[i], "--pulloff")) o.pulloff = 1;
         else if (!strcmp(argv[i], "--adh-widths") && i + 1 < argc) {
             /* comma-separated W list of the adhesive sheets (Fig. 7, and the pull-off) */
@@ -105,6 +106,10 @@ static options parse_options(int argc, char **argv) {
     }
     if (o.n < 32 || !(o.bandwidth >= 1.0) || o.bandwidth * LAMBDA_S > (double)o.n || o.threads < 0) {
         fprintf(stderr, "gfmd_paper: need --n >= 32 and 1 <= bandwidth <= n/4 (lambda_r = R * 4a within the cell)\n");
+        exit(2);
+    }
+    if (o.n_widths == 0 && !o.adhesion) {
+        fprintf(stderr, "gfmd_paper: --adhesion-only with --no-adhesion leaves nothing to run\n");
         exit(2);
     }
     if (o.levels < 1 || o.levels > 8) {
@@ -148,17 +153,19 @@ int main(int argc, char **argv) {
     /* Figs. 3, 4, 6: load sweeps without adhesion, with Persson's theory beside them */
     static sweep sw[MAX_BODIES];
     double first = 0.0; /* the sweeps' first loads, each from a flat start */
-    for (int b = 0; b < o.n_widths; ++b) {
-        run_sweep(surface, o.widths[b], 0, u_max, o.solver, o.levels, &sw[b]);
-        first += sw[b].p[0].seconds;
-    }
-    write_load_tables(sw, &o);
-    write_persson_curves(surface, sw, &o);
+    if (o.n_widths > 0) { /* not with --adhesion-only */
+        for (int b = 0; b < o.n_widths; ++b) {
+            run_sweep(surface, o.widths[b], 0, u_max, o.solver, o.levels, &sw[b]);
+            first += sw[b].p[0].seconds;
+        }
+        write_load_tables(sw, &o);
+        write_persson_curves(surface, sw, &o);
 
-    /* kappa, and Fig. 5: the collapse factor c(W) */
-    fit_kappa(&sw[0], &f);
-    fit_collapse(sw, &o, &f);
-    write_collapse_tables(sw, &o, &f);
+        /* kappa, and Fig. 5: the collapse factor c(W) */
+        fit_kappa(&sw[0], &f);
+        fit_collapse(sw, &o, &f);
+        write_collapse_tables(sw, &o, &f);
+    }
 
     /* Fig. 7: theta = U_el/U_ad with adhesion */
     if (o.adhesion) {

@@ -33,3 +33,25 @@ foreach(i 1 2)
   endif()
 endforeach()
 message("pull-off table: 2 sheets came off, tensile stresses within the adhesive bound")
+
+# --adhesion-only runs the adhesive sweeps (Fig. 7) without the sweeps of Figs. 3-6 (the paper's
+# size in two runs); with --no-adhesion it has nothing to run and is refused with exit status 2.
+execute_process(COMMAND ${STUDY} --n 64 --bandwidth 8 --threads 1 --adhesion-only --adh-widths 1,0.25
+                        --out ${OUT}/adhesion_only
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "gfmd_paper --adhesion-only failed (${rc}):\n${out}${err}")
+endif()
+if(EXISTS ${OUT}/adhesion_only/fig3_area.csv OR NOT EXISTS ${OUT}/adhesion_only/fig7_theta.csv)
+  message(FATAL_ERROR "--adhesion-only: expected fig7 tables and no fig3 table")
+endif()
+file(STRINGS ${OUT}/adhesion_only/fig7_adhesion_sweep.csv lines)
+list(LENGTH lines n)
+if(NOT n EQUAL 21)
+  message(FATAL_ERROR "--adhesion-only: fig7_adhesion_sweep.csv has ${n} lines, expected a header and 2 x 10 loads")
+endif()
+execute_process(COMMAND ${STUDY} --adhesion-only --no-adhesion RESULT_VARIABLE rc OUTPUT_QUIET ERROR_QUIET)
+if(NOT rc EQUAL 2)
+  message(FATAL_ERROR "gfmd_paper --adhesion-only --no-adhesion exited with ${rc}, not 2")
+endif()
+message("--adhesion-only: the adhesive sweeps alone; refused with --no-adhesion")
