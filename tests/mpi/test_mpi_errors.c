@@ -1,7 +1,7 @@
 /* libgfmd_mpi's collective error model, under mpiexec: a bad value on one rank gives the same
  * status and message on every rank and changes nothing; arguments that differ between ranks are
  * refused everywhere; whole-grid calls refuse a handle on more than one rank; bad multilevel
- * starts are refused everywhere; the local-slab
+ * starts are refused everywhere; slabs that do not fit give GFMD_ERR_NOMEM everywhere; the local-slab
  * calls agree with gfmd_mpi_local_size(); a clone continues with the same bits. */
 #include <gfmd_mpi.h>
 #include <math.h>
@@ -76,6 +76,12 @@ int main(int argc, char **argv) {
     CHECK(s == NULL, "a failed create left a handle");
     st = gfmd_sim_create_mpi(MPI_COMM_WORLD, kNx, kNy, kNx, kNy, 99, &s);
     expect_everywhere(NULL, st, GFMD_ERR_BAD_ENUM, "create with an unknown planner");
+    /* A grid whose slabs do not fit: 2^17 x 2^17 points, at least 2^34 / 4 points on a rank of
+     * four, about 350 GB at the handle's 82 B/pt on any machine this runs on; refused everywhere
+     * before anything is allocated. */
+    st = gfmd_sim_create_mpi(MPI_COMM_WORLD, 1 << 17, 1 << 17, 1 << 17, 1 << 17, GFMD_PLANNER_ESTIMATE, &s);
+    expect_everywhere(NULL, st, GFMD_ERR_NOMEM, "create with slabs larger than the memory");
+    CHECK(s == NULL, "a create without memory left a handle");
 
     OK(gfmd_sim_create_mpi(MPI_COMM_WORLD, kNx, kNy, kNx, kNy, GFMD_PLANNER_ESTIMATE, &s));
     if (s == NULL) {
