@@ -45,29 +45,17 @@
 
 #include <sched.h>
 #include <signal.h>
-#include <sys/mman.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include "bench_clock.h"
 #include "cg_reference.h"
 
-/* Memory as the library takes it for a grid (2 MiB aligned, transparent huge pages where the
- * kernel offers them on request), so that the bare transforms run on the same kind of pages. */
-static void *grid_memory(size_t bytes) {
-    void *p = NULL;
-    if (posix_memalign(&p, (size_t)2 << 20, bytes) != 0) return NULL;
-#ifdef MADV_HUGEPAGE
-    (void)madvise(p, bytes, MADV_HUGEPAGE);
-#endif
-    return p;
-}
-
 /* The bare transforms one step needs: one r2c and one c2r of n x n, same threads and planner,
  * on the same kind of memory as the library's grids. */
 static double fft_pair_seconds(int n, int threads) {
-    double *r = grid_memory(sizeof(double) * (size_t)n * (size_t)n);
-    fftw_complex *c = grid_memory(sizeof(fftw_complex) * (size_t)n * (size_t)(n / 2 + 1));
+    double *r = cg_grid_alloc(sizeof(double) * (size_t)n * (size_t)n);
+    fftw_complex *c = cg_grid_alloc(sizeof(fftw_complex) * (size_t)n * (size_t)(n / 2 + 1));
     if (!r || !c) {
         fprintf(stderr, "gfmd_bench: no memory for the bare transforms of %d^2\n", n);
         exit(1);

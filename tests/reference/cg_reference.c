@@ -9,9 +9,7 @@
 
 #include "gfmd.h"
 
-/* Grid memory as the library takes it (2 MiB aligned, transparent huge pages on request where the
- * kernel has them), zeroed: the comparison with the library runs on the same kind of pages. */
-static void *grid_alloc(size_t bytes) {
+void *cg_grid_alloc(size_t bytes) {
     void *p = NULL;
     if (posix_memalign(&p, (size_t)2 << 20, bytes) != 0) return NULL;
 #ifdef MADV_HUGEPAGE
@@ -69,9 +67,9 @@ cg_result cg_solve_opts(int64_t nx, int64_t ny, double lx, double ly, const doub
     int64_t n = c.n;
     const double tol = opt->tol;
     const int64_t max_iter = opt->max_iter;
-    c.compliance = grid_alloc(sizeof(double) * (size_t)(c.ny * c.nxh));
-    c.rbuf = grid_alloc(sizeof(double) * (size_t)n);
-    c.cbuf = grid_alloc(sizeof(fftw_complex) * (size_t)(c.ny * c.nxh));
+    c.compliance = cg_grid_alloc(sizeof(double) * (size_t)(c.ny * c.nxh));
+    c.rbuf = cg_grid_alloc(sizeof(double) * (size_t)n);
+    c.cbuf = cg_grid_alloc(sizeof(fftw_complex) * (size_t)(c.ny * c.nxh));
     if (opt->threads > 1) {
         fftw_init_threads();
         fftw_plan_with_nthreads(opt->threads);
@@ -88,9 +86,9 @@ cg_result cg_solve_opts(int64_t nx, int64_t ny, double lx, double ly, const doub
         }
 
     const size_t bytes = sizeof(double) * (size_t)n;
-    double *p = grid_alloc(bytes), *pold = grid_alloc(bytes);
-    double *u = grid_alloc(bytes), *g = grid_alloc(bytes);
-    double *t = grid_alloc(bytes), *r = grid_alloc(bytes);
+    double *p = cg_grid_alloc(bytes), *pold = cg_grid_alloc(bytes);
+    double *u = cg_grid_alloc(bytes), *g = cg_grid_alloc(bytes);
+    double *t = cg_grid_alloc(bytes), *r = cg_grid_alloc(bytes);
     for (int64_t i = 0; i < n; ++i) p[i] = sigma0;
     double g_old = 1.0;
     int delta = 0;

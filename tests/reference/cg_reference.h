@@ -5,7 +5,13 @@
 #ifndef GFMD_CG_REFERENCE_H
 #define GFMD_CG_REFERENCE_H
 
+#include <stddef.h>
 #include <stdint.h>
+
+/* Grid memory as the library takes it (2 MiB aligned, transparent huge pages on request where the
+ * kernel has them), zeroed; free() releases it; NULL if there is none.  The reference and the
+ * benchmark's bare transforms use it, so that they run on the same kind of pages as the library. */
+void *cg_grid_alloc(size_t bytes);
 
 typedef struct {
     double rel_area;   /* fraction of points with p > 0 */
