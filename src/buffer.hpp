@@ -26,10 +26,9 @@ public:
         if (n == 0) return;
         if (n > static_cast<std::size_t>(-1) / sizeof(T)) throw std::bad_alloc();
         const std::size_t bytes = n * sizeof(T);
-        if (bytes >= kHugeFrom) {
+        if (huge(n)) {
             void *p = nullptr;
             if (posix_memalign(&p, kHugePage, bytes) != 0) throw std::bad_alloc();
-            huge_ = true;
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
             (void)madvise(p, bytes, MADV_HUGEPAGE);  // a hint: without it, ordinary pages
 #endif
@@ -42,14 +41,12 @@ public:
     }
     AlignedBuffer(const AlignedBuffer &) = delete;
     AlignedBuffer &operator=(const AlignedBuffer &) = delete;
-    AlignedBuffer(AlignedBuffer &&o) noexcept
-        : p_(std::exchange(o.p_, nullptr)), n_(std::exchange(o.n_, 0)), huge_(std::exchange(o.huge_, false)) {}
+    AlignedBuffer(AlignedBuffer &&o) noexcept : p_(std::exchange(o.p_, nullptr)), n_(std::exchange(o.n_, 0)) {}
     AlignedBuffer &operator=(AlignedBuffer &&o) noexcept {
         if (this != &o) {
             release();
             p_ = std::exchange(o.p_, nullptr);
             n_ = std::exchange(o.n_, 0);
-            huge_ = std::exchange(o.huge_, false);
         }
         return *this;
     }
@@ -64,17 +61,17 @@ public:
 private:
     void release() noexcept {
         if (p_ != nullptr) {
-            if (huge_) free(p_);
+            if (huge(n_)) free(p_);
             else fftw_free(p_);
         }
         p_ = nullptr;
         n_ = 0;
-        huge_ = false;
     }
+    // Which allocator holds a buffer follows from its size alone.
     static constexpr std::size_t kHugePage = std::size_t{2} << 20, kHugeFrom = std::size_t{4} << 20;
+    static constexpr bool huge(std::size_t n) noexcept { return n * sizeof(T) >= kHugeFrom; }
     T *p_ = nullptr;
     std::size_t n_ = 0;
-    bool huge_ = false;
 };
 
 using RealBuffer = AlignedBuffer<double>;
