@@ -153,10 +153,12 @@ int main(int argc, char **argv) {
     /* Figs. 3, 4, 6: load sweeps without adhesion, with Persson's theory beside them */
     static sweep sw[MAX_BODIES];
     double first = 0.0; /* the sweeps' first loads, each from a flat start */
+    long long steps = 0; /* every relaxation step of every sweep */
     if (o.n_widths > 0) { /* not with --adhesion-only */
         for (int b = 0; b < o.n_widths; ++b) {
             run_sweep(surface, o.widths[b], 0, u_max, o.solver, o.levels, &sw[b]);
             first += sw[b].p[0].seconds;
+            steps += sweep_steps(&sw[b]);
         }
         write_load_tables(sw, &o);
         write_persson_curves(surface, sw, &o);
@@ -173,6 +175,7 @@ int main(int argc, char **argv) {
         for (int b = 0; b < o.n_adh; ++b) {
             run_sweep(surface, o.adh_widths[b], 1, u_max, o.solver, o.levels, &ad[b]);
             first += ad[b].p[0].seconds;
+            steps += sweep_steps(&ad[b]);
         }
         write_theta_tables(ad, &o);
         fit_theta(ad, &o, &f);
@@ -186,7 +189,7 @@ int main(int argc, char **argv) {
 
     write_fits(&o, &f);
     report_fits(&o, &f);
-    printf("total %.1f s (first loads %.2f s); tables in %s\n", now() - t_start, first, o.dir);
+    printf("total %.1f s, %lld steps (first loads %.2f s); tables in %s\n", now() - t_start, steps, first, o.dir);
     gfmd_sim_destroy(&surface);
     return 0;
 }

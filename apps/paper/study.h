@@ -79,6 +79,8 @@ double now(void);
 
 /* sweep.c */
 gfmd_sim *make_body(const gfmd_sim *surface, double W, int32_t solver);
+/* The relaxation steps of one sweep (this grid's; a multilevel start's coarse steps not counted). */
+long long sweep_steps(const sweep *s);
 void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, int32_t solver, int levels, sweep *out);
 /* pulloff.c */
 void run_pulloff(const gfmd_sim *surface, double W, double u_max, int32_t solver, pulloff *out);

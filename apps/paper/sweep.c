@@ -20,6 +20,12 @@ static double persson_load(double v, double area) {
     return 0.5 * (lo + hi) * sqrt(2.0 * v);
 }
 
+long long sweep_steps(const sweep *s) {
+    long long n = 0;
+    for (int k = 0; k < s->n; ++k) n += s->p[k].steps;
+    return n;
+}
+
 gfmd_sim *make_body(const gfmd_sim *surface, double W, int32_t solver) {
     gfmd_sim *s = NULL;
     CHECK(surface, gfmd_sim_clone(surface, &s));
@@ -65,9 +71,8 @@ void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, in
         fflush(stdout);
     }
     double seconds = 0.0;
-    long long steps = 0;
-    for (int k = 0; k < N_LOADS; ++k) seconds += out->p[k].seconds, steps += out->p[k].steps;
-    printf("this body: %lld steps, %.2f s; its first load (from flat) %lld steps, %.2f s\n", steps, seconds,
+    for (int k = 0; k < N_LOADS; ++k) seconds += out->p[k].seconds;
+    printf("this body: %lld steps, %.2f s; its first load (from flat) %lld steps, %.2f s\n", sweep_steps(out), seconds,
            out->p[0].steps, out->p[0].seconds);
     gfmd_sim_destroy(&s);
 }
