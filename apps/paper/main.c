@@ -60,6 +60,7 @@ static options parse_options(int argc, char **argv) {
     options o = {256, 32.0, 2016, 0, 1, 0, GFMD_SOLVER_AUTO, 1, ".", {0}, {0}, 0, 0};
     set_widths(o.widths, &o.n_widths, ALL_WIDTHS, COUNT(ALL_WIDTHS));
     set_widths(o.adh_widths, &o.n_adh, ALL_ADH_WIDTHS, COUNT(ALL_ADH_WIDTHS));
+    int adhesion_only = 0; /* applied after the loop: --quick or --widths later cannot undo it */
     for (int i = 1; i < argc; ++i) {
         if (!strcmp(argv[i], "--n") && i + 1 < argc) o.n = strtol(argv[++i], NULL, 10);
         else if (!strcmp(argv[i], "--bandwidth") && i + 1 < argc) o.bandwidth = strtod(argv[++i], NULL);
@@ -73,7 +74,7 @@ static options parse_options(int argc, char **argv) {
         else if (!strcmp(argv[i], "--seed") && i + 1 < argc) o.seed = strtoull(argv[++i], NULL, 10);
         else if (!strcmp(argv[i], "--threads") && i + 1 < argc) o.threads = strtol(argv[++i], NULL, 10);
         else if (!strcmp(argv[i], "--no-adhesion")) o.adhesion = 0;
-        else if (!strcmp(argv[i], "--adhesion-only")) o.n_widths = 0; /* Fig. 7 (and 8) alone */
+        else if (!strcmp(argv[i], "--adhesion-only")) adhesion_only = 1; /* Fig. 7 (and 8) alone */
         else if (!strcmp(argv[i], "--pulloff")) o.pulloff = 1;
         else if (!strcmp(argv[i], "--adh-widths") && i + 1 < argc) {
             /* comma-separated W list of the adhesive sheets (Fig. 7, and the pull-off) */
@@ -108,6 +109,7 @@ static options parse_options(int argc, char **argv) {
         fprintf(stderr, "gfmd_paper: need --n >= 32 and 1 <= bandwidth <= n/4 (lambda_r = R * 4a within the cell)\n");
         exit(2);
     }
+    if (adhesion_only) o.n_widths = 0;
     if (o.n_widths == 0 && !o.adhesion) {
         fprintf(stderr, "gfmd_paper: --adhesion-only with --no-adhesion leaves nothing to run\n");
         exit(2);
