@@ -6,6 +6,53 @@
 
 namespace gfmd {
 
+namespace {
+
+struct CompletionInputs {
+    const double *z, *h, *v;
+    double sigma0, adh_coef, inv_rho, inv_ref;
+};
+
+// One block of the real-space completion: f <- f - sigma0 - adhesion, and the block's sums
+// (adhesive weight, |F|^2, F.v, |v|^2, the scaled residual, the points in contact).  A function of
+// its own with restrict pointers and local sums, so that GCC vectorizes it (through the lambda's
+// captured references it kept reloading the pointers and left the loop scalar); the SIMD lanes
+// split the block's sums in a fixed order, so results stay independent of the thread count.
+template <bool Adhesive>
+void complete_block(const CompletionInputs &in, double *__restrict f, int64_t n, double *acc) {
+    const double *__restrict z = in.z, *__restrict h = in.h, *__restrict v = in.v;
+    const double sigma0 = in.sigma0, adh_coef = in.adh_coef, inv_rho = in.inv_rho, inv_ref = in.inv_ref;
+    double adh_sum = 0.0, res2 = 0.0, power = 0.0, v2 = 0.0, rel2 = 0.0, touching = 0.0;
+#pragma omp simd reduction(+ : adh_sum, res2, power, v2, rel2, touching)
+    for (int64_t i = 0; i < n; ++i) {
+        const double g = z[i] - h[i];
+        double fi = f[i] - sigma0;
+        if constexpr (Adhesive) {
+            const double w = std::exp(-g * inv_rho);
+            adh_sum += w;
+            fi -= adh_coef * w;
+        }
+        f[i] = fi;
+        const bool contact = g <= 0.0;
+        touching += contact ? 1.0 : 0.0;
+        const double pull = fi > 0.0 ? fi : 0.0;
+        const double r = contact ? pull : fi;  // in contact only pulling away counts
+        const double rs = r * inv_ref;        // the residual, scaled first: no overflow
+        res2 += r * r;
+        rel2 += rs * rs;
+        power += r * v[i];
+        v2 += v[i] * v[i];
+    }
+    acc[0] += adh_sum;
+    acc[1] += res2;
+    acc[2] += power;
+    acc[3] += v2;
+    acc[4] += rel2;
+    acc[5] += touching;
+}
+
+}  // namespace
+
 ForceState evaluate_forces(const FftGrid &grid, const Params &p, const Body &body, Fields &fields) {
     ForceState out;
     // Elastic stress in Fourier space: sigma(q) = -u(q)/G(q); U_el = (A/2) sum_q |u(q)|^2/G(q)
@@ -39,7 +86,7 @@ ForceState evaluate_forces(const FftGrid &grid, const Params &p, const Body &bod
     const bool adhesive = p.gamma0 > 0.0;
     const double adh_coef = adhesive ? p.gamma0 / p.rho : 0.0, inv_rho = 1.0 / p.rho;
     double *f = fields.f.data();
-    const double *z = fields.z.data(), *h = fields.h.data(), *v = fields.v.data();
+    const double *z = fields.z.data(), *h = fields.h.data();
     double sigma0 = p.sigma0;
     if (p.control == kDisplacementControl) {
         const auto free_sums = grid.sum_points<4>([&](int64_t i0, int64_t i1, double *acc) {
@@ -69,33 +116,12 @@ ForceState evaluate_forces(const FftGrid &grid, const Params &p, const Body &bod
     if (ref <= 0.0) ref = p.e_star;
     const double inv_ref = 1.0 / ref;
     const auto sums = grid.sum_points<6>([&](int64_t i0, int64_t i1, double *acc) {
-        double adh_sum = 0.0, res2 = 0.0, power = 0.0, v2 = 0.0, rel2 = 0.0;
-        int64_t touching = 0;
-        // Vectorized: the block's partial sums are split over SIMD lanes, in a fixed order, so
-        // results stay independent of the thread count.
-#pragma omp simd reduction(+ : adh_sum, res2, power, v2, rel2, touching)
-        for (int64_t i = i0; i < i1; ++i) {
-            const double g = z[i] - h[i];
-            double fi = f[i] - sigma0;
-            if (adhesive) {
-                const double w = std::exp(-g * inv_rho);
-                adh_sum += w;
-                fi -= adh_coef * w;
-            }
-            f[i] = fi;
-            touching += (g <= 0.0) ? 1 : 0;
-            const double r = (g <= 0.0) ? std::max(fi, 0.0) : fi;  // in contact only pulling away counts
-            res2 += r * r;
-            rel2 += (r * inv_ref) * (r * inv_ref);  // the residual, scaled first: no overflow
-            power += r * v[i];
-            v2 += v[i] * v[i];
-        }
-        acc[0] += adh_sum;
-        acc[1] += res2;
-        acc[2] += power;
-        acc[3] += v2;
-        acc[4] += rel2;
-        acc[5] += static_cast<double>(touching);
+        const CompletionInputs in{fields.z.data() + i0, fields.h.data() + i0, fields.v.data() + i0, sigma0,
+                                  adh_coef, inv_rho, inv_ref};
+        if (adhesive)
+            complete_block<true>(in, fields.f.data() + i0, i1 - i0, acc);
+        else
+            complete_block<false>(in, fields.f.data() + i0, i1 - i0, acc);
     });
     out.contacts = static_cast<int64_t>(sums[5]);
     out.u_ad = p.gamma0 * grid.area_per_point() * sums[0];
