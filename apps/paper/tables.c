@@ -95,23 +95,30 @@ void write_theta_tables(const sweep *ad, const options *o) {
 }
 
 void write_fits(const options *o, const fits *f) {
+    /* only the fits of the sweeps that ran (--adhesion-only, --no-adhesion): no rows of NaN */
     FILE *ff = open_csv(o->dir, "fits.csv", "quantity,value,detail");
-    fprintf(ff, "kappa_halfspace,%.6f,A/A0 = kappa sigma0/(E* g) for A/A0 <= %g\n", f->kappa, KAPPA_MAX_AREA);
-    fprintf(ff, "persson_kappa,%.6f,sqrt(8/pi) (small-load slope of erf)\n", sqrt(8.0 / 3.14159265358979323846));
-    fprintf(ff, "c_exponent,%.6f,c(W) ~ W^alpha for W <= 0.125\n", f->cfit[1]);
-    fprintf(ff, "c_prefactor,%.6e,c(W) = prefactor W^alpha for W <= 0.125\n", exp(f->cfit[0]));
-    for (int t = 0; t < N_TARGETS; ++t)
-        fprintf(ff, "theta_exponent_A%g,%.6f,theta ~ W^beta at A/A0 = %g for W <= 0.25\n", TARGETS[t], f->tfit[t][1],
-                TARGETS[t]);
-    fprintf(ff, "theta_exponent,%.6f,common beta of the three areas (one intercept each)\n", f->theta_common);
+    if (o->n_widths > 0) {
+        fprintf(ff, "kappa_halfspace,%.6f,A/A0 = kappa sigma0/(E* g) for A/A0 <= %g\n", f->kappa, KAPPA_MAX_AREA);
+        fprintf(ff, "persson_kappa,%.6f,sqrt(8/pi) (small-load slope of erf)\n", sqrt(8.0 / 3.14159265358979323846));
+        fprintf(ff, "c_exponent,%.6f,c(W) ~ W^alpha for W <= 0.125\n", f->cfit[1]);
+        fprintf(ff, "c_prefactor,%.6e,c(W) = prefactor W^alpha for W <= 0.125\n", exp(f->cfit[0]));
+    }
+    if (o->adhesion) {
+        for (int t = 0; t < N_TARGETS; ++t)
+            fprintf(ff, "theta_exponent_A%g,%.6f,theta ~ W^beta at A/A0 = %g for W <= 0.25\n", TARGETS[t],
+                    f->tfit[t][1], TARGETS[t]);
+        fprintf(ff, "theta_exponent,%.6f,common beta of the three areas (one intercept each)\n", f->theta_common);
+    }
     fclose(ff);
 }
 
 void report_fits(const options *o, const fits *f) {
     printf("\nFits (gfmd_least_squares):\n");
-    printf("  kappa (half-space, A/A0 <= %g)  = %.3f   (Persson: sqrt(8/pi) = %.3f)\n", KAPPA_MAX_AREA, f->kappa,
-           sqrt(8.0 / 3.14159265358979323846));
-    printf("  c(W) ~ W^alpha, W <= 0.125      : alpha = %.3f (paper: -3)\n", f->cfit[1]);
+    if (o->n_widths > 0) {
+        printf("  kappa (half-space, A/A0 <= %g)  = %.3f   (Persson: sqrt(8/pi) = %.3f)\n", KAPPA_MAX_AREA, f->kappa,
+               sqrt(8.0 / 3.14159265358979323846));
+        printf("  c(W) ~ W^alpha, W <= 0.125      : alpha = %.3f (paper: -3)\n", f->cfit[1]);
+    }
     for (int b = 1; b < o->n_widths; ++b) {
         printf("    W = %-7g c = %-10.4g", o->widths[b], f->cw[b]);
         if (b > 1)
