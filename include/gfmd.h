@@ -233,9 +233,13 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * the load control changes; the rule and its measurements are in docs/performance.md;
  * gfmd_get_solver() tells the choice),
  * GFMD_SOLVER_CG (constrained conjugate gradients: under pressure control on a half-space or a
- * bonded layer Polonsky & Keer's iteration on the contact pressure, about three FFT pairs an
- * iteration; on a layer on a fluid foundation and under displacement control projected CG on the
- * surface, about 1.5 pairs; 16 bytes per point more, GFMD_ERR_NOMEM and nothing changed if they
+ * bonded layer Polonsky & Keer's iteration on the contact pressure, two FFT pairs an iteration
+ * and the convergence test (one pair more) every third iteration since the solver's restart, so
+ * gfmd_relax() stops at most two iterations after the first that meets tol, and a call that
+ * reaches max_steps between two tests returns GFMD_ERR_NOT_CONVERGED even if the residual
+ * already meets tol (the next call stops at the next test); on a layer on a fluid foundation and
+ * under displacement control projected CG on the surface, about 1.5 pairs, tested every
+ * iteration; 16 bytes per point more, GFMD_ERR_NOMEM and nothing changed if they
  * cannot be had; for the non-adhesive problem only -- GFMD_ERR_STATE with adhesion, and
  * gfmd_set_adhesion() with gamma0 > 0 refuses while it is chosen; one "step" of
  * gfmd_step()/gfmd_relax() is one iteration; the same convergence test as the others),

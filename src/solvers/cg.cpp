@@ -23,7 +23,7 @@ void SurfaceCg::set_state(const double *s) {
 // not converge to 1e-8 in 80 000 iterations where the surface CG took 1 749), and under
 // displacement control.
 void ConjugateGradient::advance(StepContext &c) {
-    if (c.params.control == kDisplacementControl || c.params.kind == GFMD_GREEN_LAYER_FLUID)
+    if (uses_surface(c.params))
         surface_.advance(c);
     else
         pressure_.advance(c);
@@ -38,7 +38,7 @@ std::vector<double> ConjugateGradient::state() const {
 
 // Checks everything before changing anything: a corrupted file leaves the solver as it was.
 void ConjugateGradient::set_state(const std::vector<double> &s) {
-    if (s.size() != 7) fail(GFMD_ERR_FORMAT, "invalid CG state");
+    if (s.size() != 8 && s.size() != 7) fail(GFMD_ERR_FORMAT, "invalid CG state");  // 7: without PK's count
     SurfaceCg surface = surface_;
     surface.set_state(s.data());
     pressure_.set_state(std::vector<double>(s.begin() + 2, s.end()));

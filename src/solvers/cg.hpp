@@ -34,6 +34,7 @@ public:
         pressure_.restart();
     }
     void advance(StepContext &c) override;
+    bool at_check(const Params &p) const override { return uses_surface(p) || pressure_.at_check(); }
     std::unique_ptr<Solver> clone() const override { return std::make_unique<ConjugateGradient>(*this); }
     std::vector<double> state() const override;
     void set_state(const std::vector<double> &s) override;
@@ -41,6 +42,9 @@ public:
     void set_grid_state(std::vector<RealBuffer> &&fields) override;
 
 private:
+    static bool uses_surface(const Params &p) {
+        return p.control == kDisplacementControl || p.kind == GFMD_GREEN_LAYER_FLUID;
+    }
     SurfaceCg surface_;
     PolonskyKeer pressure_;
 };

@@ -14,13 +14,19 @@ public:
     explicit PolonskyKeer(const FftGrid &grid);
     PolonskyKeer(const PolonskyKeer &o);
     PolonskyKeer &operator=(const PolonskyKeer &) = delete;
-    void restart() { fresh_ = true; }
+    void restart() {
+        fresh_ = true;
+        iterations_ = 0;
+    }
+    // Convergence is tested every kCheckEvery iterations since the restart (pk.cpp).
+    bool at_check() const;
     // One iteration: the pressure moves, then z = h where p > 0 and max(h, u + c) elsewhere, with
     // u = G p and c the rigid-body approach that closes the gap on average over the contact set.  fields.v holds the
     // conjugate direction, fields.f is scratch.
     void advance(StepContext &c);
     // fresh, the squared gap norm of the last direction and of the current pressure, the
-    // conjugacy flag, the approach c; and the pressure field.
+    // conjugacy flag, the approach c, the iterations since the restart; and the pressure field.
+    // set_state() also takes the five numbers of a checkpoint without the count (then 0).
     std::vector<double> state() const;
     void set_state(const std::vector<double> &s);
     const RealBuffer &pressure() const { return p_; }
@@ -36,6 +42,7 @@ private:
     bool conjugate_ = false;  // PK's delta: no point joined the contact set in the last iteration
     double g_old_ = 0.0, g_now_ = 0.0, approach_ = 0.0;
     double in_contact_ = 0.0;  // points with p > 0 (derived, with u_)
+    int64_t iterations_ = 0;   // since the restart: the convergence test's schedule
 };
 
 }  // namespace gfmd

@@ -45,6 +45,11 @@ public:
     virtual ~Solver() = default;
     virtual void restart(const Dynamics &d) = 0;
     virtual void advance(StepContext &c) = 0;
+    // Whether the caller should evaluate the forces and test convergence after this step.  A
+    // solver whose steps do not read the forces (Polonsky & Keer's iteration moves the pressure)
+    // may ask for the test only every few steps, on a schedule that depends on its own state
+    // alone, so that a relax in chunks stops where one call does.  The default: every step.
+    virtual bool at_check(const Params &) const { return true; }
     virtual std::unique_ptr<Solver> clone() const = 0;
     // The adaptive state as numbers, for checkpoints: state() and set_state() round-trip exactly;
     // set_state() throws GFMD_ERR_FORMAT for values the solver cannot have.

@@ -137,6 +137,45 @@ static void conjugate_gradients(void **state) {
 }
 
 /* Relaxes one rough case with the given solver to 1e-8 and returns A/A0, mean gap and energies. */
+/* The pressure CG tests convergence every third iteration since its restart (src/solvers/pk.cpp):
+ * a relax stops at the first multiple of three whose residual meets the tolerance.  Checked
+ * against a second handle stepped one iteration at a time, its residual read after each: the same
+ * iterates (bit for bit at the stop), the relax's stop is the first multiple of three at or after
+ * the first iteration below tol, and that iteration is at most two before it. */
+static void cg_tests_every_third_iteration(void **state) {
+    (void)state;
+    const int64_t n = 64;
+    const double tol = 1e-8;
+    for (int body = 0; body < 2; ++body) {
+        gfmd_sim *a = ts_create(n, n, (double)n, (double)n), *b = NULL;
+        TS_OK(a, gfmd_generate_selfaffine(a, 0.8, 16.0, 4.0, 1.0, 5, GFMD_DIST_UNIFORM));
+        if (body == 1) {
+            TS_OK(a, gfmd_set_poisson(a, 0.3));
+            TS_OK(a, gfmd_set_green(a, GFMD_GREEN_LAYER_BONDED, 8.0));
+        }
+        TS_OK(a, gfmd_set_solver(a, GFMD_SOLVER_CG));
+        TS_OK(a, gfmd_set_pressure(a, 0.05));
+        TS_OK(a, gfmd_sim_clone(a, &b));
+        int64_t taken = 0;
+        TS_OK(a, gfmd_relax(a, tol, 100000, &taken));
+        assert_true(taken > 0 && taken % 3 == 0);
+        int64_t first = 0; /* the first iteration whose residual meets tol */
+        for (int64_t k = 1; k <= taken; ++k) {
+            TS_OK(b, gfmd_step(b, 1));
+            double r = 0.0;
+            TS_OK(b, gfmd_get_residual(b, &r));
+            if (first == 0 && r <= tol) first = k;
+        }
+        assert_true(first > 0 && first > taken - 3 && first <= taken);
+        double za[64 * 64], zb[64 * 64];
+        TS_OK(a, gfmd_get_surface(a, za));
+        TS_OK(b, gfmd_get_surface(b, zb));
+        assert_memory_equal(za, zb, sizeof za);
+        gfmd_sim_destroy(&a);
+        gfmd_sim_destroy(&b);
+    }
+}
+
 static void relax_with(int32_t solver, double width, double sigma0, double gamma0, double out[4]) {
     gfmd_sim *s = ts_create(64, 64, 64.0, 64.0);
     TS_OK(s, gfmd_generate_selfaffine(s, 0.8, 16.0, 4.0, 1.0, 99, GFMD_DIST_UNIFORM));
@@ -191,6 +230,7 @@ int main(void) {
         cmocka_unit_test(bonded_layer),
         cmocka_unit_test(mass_weighted),
         cmocka_unit_test(conjugate_gradients),
+        cmocka_unit_test(cg_tests_every_third_iteration),
         cmocka_unit_test(solvers_agree),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -119,8 +119,8 @@ static void cg_restart_is_bit_exact(void **state) {
     TS_OK(a, gfmd_set_pressure(a, 0.03));
     TS_OK(a, gfmd_step(a, 7));
     TS_OK(a, gfmd_sim_save(a, PATH));
-    /* one field more than FIRE's file: the pressure (and its row hashes); 7 numbers of state instead of 3 */
-    assert_int_equal(file_size(PATH), 8 + 8 + 32 + 9 * 8 + 3 * 4 + 8 + 4 + 4 + 7 * 8 + 4 + 4 * 8 * NX * NY + 4 * 8 * NY + 8);
+    /* one field more than FIRE's file: the pressure (and its row hashes); 8 numbers of state instead of 3 */
+    assert_int_equal(file_size(PATH), 8 + 8 + 32 + 9 * 8 + 3 * 4 + 8 + 4 + 4 + 8 * 8 + 4 + 4 * 8 * NX * NY + 4 * 8 * NY + 8);
     expect_resumed(a, GFMD_SOLVER_CG, 9);
 }
 
@@ -352,6 +352,50 @@ static void older_formats_resume(void **state) {
     remove(PATH);
 }
 
+/* A CG file of this format written before the pressure CG kept its iteration count (7 numbers of
+ * state instead of 8; the count schedules the convergence test, every third iteration since the
+ * restart) still loads, with the count 0, and resumes the same iterates: saved at a count that is
+ * a multiple of three, the schedule is the same too, so relax stops at the same step. */
+static void cg_state_without_count_resumes(void **state) {
+    (void)state;
+    gfmd_sim *a = ts_create(NX, NY, 40.0, 24.0), *b = NULL;
+    TS_OK(a, gfmd_generate_selfaffine(a, 0.8, 12.0, 3.0, 1.0, 21, GFMD_DIST_UNIFORM));
+    TS_OK(a, gfmd_set_poisson(a, 0.3));
+    TS_OK(a, gfmd_set_green(a, GFMD_GREEN_LAYER_BONDED, 2.0));
+    TS_OK(a, gfmd_set_solver(a, GFMD_SOLVER_CG));
+    TS_OK(a, gfmd_set_pressure(a, 0.03));
+    TS_OK(a, gfmd_step(a, 6));
+    TS_OK(a, gfmd_sim_save(a, PATH));
+    long n = 0;
+    unsigned char *buf = read_all(PATH, &n);
+    uint32_t k = 0;
+    memcpy(&k, buf + OFF_STATE, 4);
+    assert_int_equal(k, 8);
+    double count = -1.0;
+    memcpy(&count, buf + OFF_STATE + 4 + 7 * 8, 8);
+    assert_true(count == 6.0);
+    const long cut = OFF_STATE + 4 + 7 * 8; /* drop the count: 7 numbers */
+    memmove(buf + cut, buf + cut + 8, (size_t)(n - cut - 8));
+    n -= 8;
+    k = 7;
+    memcpy(buf + OFF_STATE, &k, 4);
+    write_rehashed5(PATH, buf, n, 4); /* h, z, v and the pressure */
+    free(buf);
+    char msg[256] = "";
+    if (gfmd_sim_load(PATH, &b, msg, sizeof msg) != GFMD_OK) fail_msg("%s", msg);
+    int64_t sa = 0, sb = 0;
+    TS_OK(a, gfmd_relax(a, 1e-9, 100000, &sa));
+    TS_OK(b, gfmd_relax(b, 1e-9, 100000, &sb));
+    assert_int_equal(sa, sb);
+    double za[NX * NY], zb[NX * NY];
+    TS_OK(a, gfmd_get_surface(a, za));
+    TS_OK(b, gfmd_get_surface(b, zb));
+    assert_memory_equal(za, zb, sizeof za);
+    gfmd_sim_destroy(&a);
+    gfmd_sim_destroy(&b);
+    remove(PATH);
+}
+
 /* Files with a valid checksum that are still wrong: unknown flags, and a small file whose header
  * claims a huge grid (refused from its length, before anything is allocated: the message says so). */
 static void forged_headers_are_refused(void **state) {
@@ -419,6 +463,7 @@ int main(void) {
         cmocka_unit_test(row_hashes_are_checked),
         cmocka_unit_test(auto_choice_survives_restart),
         cmocka_unit_test(cg_restart_is_bit_exact),
+        cmocka_unit_test(cg_state_without_count_resumes),
         cmocka_unit_test(forged_headers_are_refused),
         cmocka_unit_test(failed_save_leaves_nothing),
     };
