@@ -62,6 +62,17 @@ static void restart_is_bit_exact(void **state) {
     remove(PATH);
 }
 
+/* a and b have bit-identical surfaces; destroys both and removes PATH. */
+static void same_surfaces_then_destroy(gfmd_sim *a, gfmd_sim *b) {
+    double za[NX * NY], zb[NX * NY];
+    TS_OK(a, gfmd_get_surface(a, za));
+    TS_OK(b, gfmd_get_surface(b, zb));
+    assert_memory_equal(za, zb, sizeof za);
+    gfmd_sim_destroy(&a);
+    gfmd_sim_destroy(&b);
+    remove(PATH);
+}
+
 /* Loads PATH (saved from a), checks that it runs `solver`, continues both `steps` steps and
  * compares the surfaces bit for bit; destroys a. */
 static void expect_resumed(gfmd_sim *a, int32_t solver, int64_t steps) {
@@ -73,13 +84,7 @@ static void expect_resumed(gfmd_sim *a, int32_t solver, int64_t steps) {
     assert_int_equal(active, solver);
     TS_OK(a, gfmd_step(a, steps));
     TS_OK(b, gfmd_step(b, steps));
-    double za[NX * NY], zb[NX * NY];
-    TS_OK(a, gfmd_get_surface(a, za));
-    TS_OK(b, gfmd_get_surface(b, zb));
-    assert_memory_equal(za, zb, sizeof za);
-    gfmd_sim_destroy(&a);
-    gfmd_sim_destroy(&b);
-    remove(PATH);
+    same_surfaces_then_destroy(a, b);
 }
 
 /* GFMD_SOLVER_AUTO's choice survives a restart: it is the choice made when the load was set (CG
@@ -108,15 +113,21 @@ static long file_size(const char *path) {
     return n;
 }
 
-/* CG keeps its contact pressure as grid-sized state: a non-adhesive body (CG refuses adhesion) */
-static void cg_restart_is_bit_exact(void **state) {
-    (void)state;
+/* A bonded layer under pressure relaxed by CG (non-adhesive: CG refuses adhesion). */
+static gfmd_sim *make_cg_body(void) {
     gfmd_sim *a = ts_create(NX, NY, 40.0, 24.0);
     TS_OK(a, gfmd_generate_selfaffine(a, 0.8, 12.0, 3.0, 1.0, 21, GFMD_DIST_UNIFORM));
     TS_OK(a, gfmd_set_poisson(a, 0.3));
     TS_OK(a, gfmd_set_green(a, GFMD_GREEN_LAYER_BONDED, 2.0));
     TS_OK(a, gfmd_set_solver(a, GFMD_SOLVER_CG));
     TS_OK(a, gfmd_set_pressure(a, 0.03));
+    return a;
+}
+
+/* CG keeps its contact pressure as grid-sized state: a non-adhesive body (CG refuses adhesion) */
+static void cg_restart_is_bit_exact(void **state) {
+    (void)state;
+    gfmd_sim *a = make_cg_body();
     TS_OK(a, gfmd_step(a, 7));
     TS_OK(a, gfmd_sim_save(a, PATH));
     /* one field more than FIRE's file: the pressure (and its row hashes); 8 numbers of state instead of 3 */
@@ -358,12 +369,7 @@ static void older_formats_resume(void **state) {
  * a multiple of three, the schedule is the same too, so relax stops at the same step. */
 static void cg_state_without_count_resumes(void **state) {
     (void)state;
-    gfmd_sim *a = ts_create(NX, NY, 40.0, 24.0), *b = NULL;
-    TS_OK(a, gfmd_generate_selfaffine(a, 0.8, 12.0, 3.0, 1.0, 21, GFMD_DIST_UNIFORM));
-    TS_OK(a, gfmd_set_poisson(a, 0.3));
-    TS_OK(a, gfmd_set_green(a, GFMD_GREEN_LAYER_BONDED, 2.0));
-    TS_OK(a, gfmd_set_solver(a, GFMD_SOLVER_CG));
-    TS_OK(a, gfmd_set_pressure(a, 0.03));
+    gfmd_sim *a = make_cg_body(), *b = NULL;
     TS_OK(a, gfmd_step(a, 6));
     TS_OK(a, gfmd_sim_save(a, PATH));
     long n = 0;
@@ -387,13 +393,7 @@ static void cg_state_without_count_resumes(void **state) {
     TS_OK(a, gfmd_relax(a, 1e-9, 100000, &sa));
     TS_OK(b, gfmd_relax(b, 1e-9, 100000, &sb));
     assert_int_equal(sa, sb);
-    double za[NX * NY], zb[NX * NY];
-    TS_OK(a, gfmd_get_surface(a, za));
-    TS_OK(b, gfmd_get_surface(b, zb));
-    assert_memory_equal(za, zb, sizeof za);
-    gfmd_sim_destroy(&a);
-    gfmd_sim_destroy(&b);
-    remove(PATH);
+    same_surfaces_then_destroy(a, b);
 }
 
 /* Files with a valid checksum that are still wrong: unknown flags, and a small file whose header
