@@ -5,12 +5,15 @@
  *
  *   gfmd_paper [--n N] [--bandwidth R] [--full | --quick] [--out DIR] [--seed S] [--threads T]
  *              [--no-adhesion | --adhesion-only] [--widths 0,W1,W2,...] [--adh-widths W1,...] [--pulloff]
- *              [--solver auto|fire|mass|cg] [--multilevel LEVELS]
+ *              [--solver auto|fire|mass|cg] [--multilevel LEVELS] [--approach STEPS]
  *
  * Surface: H = 0.8, lambda_s = 4a, lambda_r = R lambda_s, cell L = N a (default N = 256, R = 32,
  * L = 2 lambda_r; --full: N = 2048, R = 64, L = 8 lambda_r as in the paper; --quick, the test's
  * mode: N = 128, R = 16, half of the bodies; options after --full/--quick override), g = 1,
  * E* = 1, uniform random amplitudes.  Every load step continues from the last equilibrium.
+ * --approach STEPS: each relaxation (but a multilevel first load) starts with at most STEPS
+ * mass-weighted FIRE steps, then continues with the chosen solver to the tolerance (mass weighting
+ * approaches the equilibrium fast and then converges slowly; docs/performance.md).
  * Writes CSV tables into DIR (one per figure, see docs/paper/README.md) and prints the fits
  * (fits.c says which). */
 #include <errno.h>
@@ -46,7 +49,7 @@ void die(const gfmd_sim *s, int32_t st, const char *what) {
 }
 
 static void usage(const char *argv0) {
-    fprintf(stderr, "usage: %s [--n N] [--bandwidth R] [--full | --quick] [--out DIR] [--seed S] [--threads T] [--no-adhesion | --adhesion-only] [--widths 0,W1,...] [--adh-widths W1,...] [--pulloff] [--solver auto|fire|mass|cg] [--multilevel LEVELS]\n",
+    fprintf(stderr, "usage: %s [--n N] [--bandwidth R] [--full | --quick] [--out DIR] [--seed S] [--threads T] [--no-adhesion | --adhesion-only] [--widths 0,W1,...] [--adh-widths W1,...] [--pulloff] [--solver auto|fire|mass|cg] [--multilevel LEVELS] [--approach STEPS]\n",
             argv0);
     exit(2);
 }
@@ -57,7 +60,7 @@ static void set_widths(double *to, int *n, const double *from, int count) {
 }
 
 static options parse_options(int argc, char **argv) {
-    options o = {256, 32.0, 2016, 0, 1, 0, GFMD_SOLVER_AUTO, 1, ".", {0}, {0}, 0, 0};
+    options o = {256, 32.0, 2016, 0, 1, 0, GFMD_SOLVER_AUTO, 1, 0, ".", {0}, {0}, 0, 0};
     set_widths(o.widths, &o.n_widths, ALL_WIDTHS, COUNT(ALL_WIDTHS));
     set_widths(o.adh_widths, &o.n_adh, ALL_ADH_WIDTHS, COUNT(ALL_ADH_WIDTHS));
     int adhesion_only = 0; /* applied after the loop: --quick or --widths later cannot undo it */
@@ -84,6 +87,7 @@ static options parse_options(int argc, char **argv) {
             o.n_adh = k;
         }
         else if (!strcmp(argv[i], "--multilevel") && i + 1 < argc) o.levels = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--approach") && i + 1 < argc) o.approach = strtol(argv[++i], NULL, 10);
         else if (!strcmp(argv[i], "--solver") && i + 1 < argc) {
             ++i;
             if (!strcmp(argv[i], "auto")) o.solver = GFMD_SOLVER_AUTO;
@@ -112,6 +116,10 @@ static options parse_options(int argc, char **argv) {
     if (adhesion_only) o.n_widths = 0;
     if (o.n_widths == 0 && !o.adhesion) {
         fprintf(stderr, "gfmd_paper: --adhesion-only with --no-adhesion leaves nothing to run\n");
+        exit(2);
+    }
+    if (o.approach < 0 || o.approach > 1000000) {
+        fprintf(stderr, "gfmd_paper: --approach takes 0 (none) to 1000000 mass-weighted steps\n");
         exit(2);
     }
     if (o.levels < 1 || o.levels > 8) {
@@ -158,7 +166,7 @@ int main(int argc, char **argv) {
     long long steps = 0; /* every relaxation step of every sweep */
     if (o.n_widths > 0) { /* not with --adhesion-only */
         for (int b = 0; b < o.n_widths; ++b) {
-            run_sweep(surface, o.widths[b], 0, u_max, o.solver, o.levels, &sw[b]);
+            run_sweep(surface, o.widths[b], 0, u_max, &o, &sw[b]);
             first += sw[b].p[0].seconds;
             steps += sweep_steps(&sw[b]);
         }
@@ -175,7 +183,7 @@ int main(int argc, char **argv) {
     if (o.adhesion) {
         static sweep ad[MAX_BODIES];
         for (int b = 0; b < o.n_adh; ++b) {
-            run_sweep(surface, o.adh_widths[b], 1, u_max, o.solver, o.levels, &ad[b]);
+            run_sweep(surface, o.adh_widths[b], 1, u_max, &o, &ad[b]);
             first += ad[b].p[0].seconds;
             steps += sweep_steps(&ad[b]);
         }

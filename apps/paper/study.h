@@ -35,6 +35,7 @@ typedef struct {
     int pulloff;            /* and the pull-off of each adhesive sheet (Fig. 8) */
     int32_t solver;         /* GFMD_SOLVER_* */
     int levels;             /* the first load of each body: gfmd_relax_multilevel with these levels (1: flat start) */
+    long approach;          /* each other relaxation: up to this many mass-weighted FIRE steps first (0: none) */
     const char *dir;        /* output folder */
     double widths[MAX_BODIES], adh_widths[MAX_BODIES]; /* W = w/lambda_s, 0 = half-space first */
     int n_widths, n_adh;
@@ -81,7 +82,7 @@ double now(void);
 gfmd_sim *make_body(const gfmd_sim *surface, double W, int32_t solver);
 /* The relaxation steps of one sweep (this grid's; a multilevel start's coarse steps not counted). */
 long long sweep_steps(const sweep *s);
-void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, int32_t solver, int levels, sweep *out);
+void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, const options *o, sweep *out);
 /* pulloff.c */
 void run_pulloff(const gfmd_sim *surface, double W, double u_max, int32_t solver, pulloff *out);
 /* fits.c */

@@ -34,9 +34,25 @@ gfmd_sim *make_body(const gfmd_sim *surface, double W, int32_t solver) {
     return s;
 }
 
-void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, int32_t solver, int levels, sweep *out) {
+/* Relax to the default tolerance: first (--approach) at most o->approach mass-weighted FIRE steps,
+ * then the sweep's solver from there; steps counts both. */
+static void relax_with_approach(gfmd_sim *s, int32_t solver, const options *o, int64_t *steps) {
+    int64_t first = 0, rest = 0;
+    if (o->approach > 0) {
+        CHECK(s, gfmd_set_solver(s, GFMD_SOLVER_FIRE_MASS));
+        const int32_t st = gfmd_relax(s, 0.0, o->approach, &first);
+        if (st != GFMD_ERR_NOT_CONVERGED) CHECK(s, st);
+        CHECK(s, gfmd_set_solver(s, solver));
+    }
+    CHECK(s, gfmd_relax(s, 0.0, 2000000, &rest));
+    *steps = first + rest;
+}
+
+void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, const options *o, sweep *out) {
     /* CG refuses adhesion: the adhesive sweeps then take the library's automatic choice */
-    gfmd_sim *s = make_body(surface, W, adhesive && solver == GFMD_SOLVER_CG ? GFMD_SOLVER_AUTO : solver);
+    const int32_t solver = adhesive && o->solver == GFMD_SOLVER_CG ? GFMD_SOLVER_AUTO : o->solver;
+    const int levels = o->levels;
+    gfmd_sim *s = make_body(surface, W, solver);
     if (adhesive) CHECK(s, gfmd_set_adhesion(s, GAMMA0, RHO));
     out->W = W;
     out->n = N_LOADS;
@@ -57,7 +73,7 @@ void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, in
             int64_t coarse = 0;
             CHECK(s, gfmd_relax_multilevel(s, 0.0, 2000000, levels, &steps, &coarse));
         } else {
-            CHECK(s, gfmd_relax(s, 0.0, 2000000, &steps));
+            relax_with_approach(s, solver, o, &steps);
         }
         p->seconds = now() - t0;
         p->steps = (long long)steps;

@@ -102,7 +102,7 @@ static double area_at(const table *t, int r0, int r1, double load) {
 }
 
 /* --same-equilibrium A B: two runs of the study that differ only in how each load was relaxed
- * (gfmd_paper --multilevel): every load's A/A0 within one grid point and mean gap within 1e-4
+ * (gfmd_paper --multilevel, --approach): every load's A/A0 within one grid point and mean gap within 1e-4
  * relative (both relax to the default tolerance, 1e-6 in the residual, from other starts), and
  * the first load of at least one body took another number of steps (the other start did run). */
 static int same_equilibrium(const char *a_dir, const char *b_dir, double points) {
