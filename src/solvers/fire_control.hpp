@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "../error.hpp"
+#include "solver.hpp"
 
 namespace gfmd {
 
@@ -48,8 +49,8 @@ struct FireControl {
     std::vector<double> state() const { return {dt, alpha, static_cast<double>(positive)}; }
     void set_state(const std::vector<double> &s) {
         // positive is an exact integer below 2^53 in a double
-        if (s.size() != 3 || !(s[0] >= 0.0) || !std::isfinite(s[0]) || !(s[1] >= 0.0) || !std::isfinite(s[1]) || !(s[2] >= 0.0) || !(s[2] <= 9007199254740992.0) ||
-            s[2] != static_cast<double>(static_cast<int64_t>(s[2])))
+        if (s.size() != 3 || !(s[0] >= 0.0) || !std::isfinite(s[0]) || !(s[1] >= 0.0) || !std::isfinite(s[1]) ||
+            !valid_count(s[2]))
             fail(GFMD_ERR_FORMAT, "invalid FIRE state");
         dt = s[0];
         alpha = s[1];

@@ -38,11 +38,9 @@ std::vector<double> PolonskyKeer::state() const {
 
 void PolonskyKeer::set_state(const std::vector<double> &s) {
     const auto flag = [](double x) { return x == 0.0 || x == 1.0; };
-    // the count is an exact integer below 2^53 in a double
     const double count = (s.size() == 6) ? s[5] : 0.0;
     if ((s.size() != 5 && s.size() != 6) || !flag(s[0]) || !flag(s[1]) || !(s[2] >= 0.0) || !std::isfinite(s[2]) ||
-        !(s[3] >= 0.0) || !std::isfinite(s[3]) || !std::isfinite(s[4]) || !(count >= 0.0) ||
-        !(count <= 9007199254740992.0) || count != static_cast<double>(static_cast<int64_t>(count)))
+        !(s[3] >= 0.0) || !std::isfinite(s[3]) || !std::isfinite(s[4]) || !valid_count(count))
         fail(GFMD_ERR_FORMAT, "invalid CG state");
     fresh_ = s[0] != 0.0;
     conjugate_ = s[1] != 0.0;

@@ -18,6 +18,11 @@
 
 namespace gfmd {
 
+// A count kept in a solver's state (a vector of doubles): an exact integer in [0, 2^53].
+inline bool valid_count(double x) {
+    return x >= 0.0 && x <= 9007199254740992.0 && x == static_cast<double>(static_cast<int64_t>(x));
+}
+
 // The automatic (or user-set) dynamics of a body: dt = kDtFactor / omega_max (Verlet is stable up
 // to 2/omega_max; 1 leaves room for the hard-wall collisions and the adhesive nonlinearity),
 // damping eta = 2 kZeta omega_min: the slowest elastic mode slightly underdamped, every faster
