@@ -176,6 +176,47 @@ static void cg_tests_every_third_iteration(void **state) {
     }
 }
 
+/* The header's promise for a call that reaches max_steps between two tests: the residual may
+ * already meet tol, the call still says GFMD_ERR_NOT_CONVERGED, and the next call stops at the
+ * next test -- where one call would have.  Tolerances are tried until the first iteration below
+ * one of them is not a multiple of three (the case the promise is about). */
+static void cg_between_tests_not_converged(void **state) {
+    (void)state;
+    const int64_t n = 64;
+    int cases = 0;
+    for (double tol = 1e-5; tol >= 1e-11; tol /= 10.0) {
+        gfmd_sim *a = ts_create(n, n, (double)n, (double)n), *b = NULL, *c = NULL;
+        TS_OK(a, gfmd_generate_selfaffine(a, 0.8, 16.0, 4.0, 1.0, 5, GFMD_DIST_UNIFORM));
+        TS_OK(a, gfmd_set_solver(a, GFMD_SOLVER_CG));
+        TS_OK(a, gfmd_set_pressure(a, 0.05));
+        TS_OK(a, gfmd_sim_clone(a, &b));
+        TS_OK(a, gfmd_sim_clone(a, &c));
+        int64_t taken = 0, first = 0;
+        TS_OK(a, gfmd_relax(a, tol, 100000, &taken));
+        for (int64_t k = 1; k <= taken && first == 0; ++k) { /* the first iteration below tol */
+            TS_OK(b, gfmd_step(b, 1));
+            double r = 0.0;
+            TS_OK(b, gfmd_get_residual(b, &r));
+            if (r <= tol) first = k;
+        }
+        if (first % 3 != 0) { /* a call of `first` steps ends between tests, its residual below tol */
+            ++cases;
+            int64_t done = -1, more = -1;
+            double r = 1.0;
+            assert_int_equal(gfmd_relax(c, tol, first, &done), GFMD_ERR_NOT_CONVERGED);
+            assert_int_equal(done, first);
+            TS_OK(c, gfmd_get_residual(c, &r));
+            assert_true(r <= tol);
+            TS_OK(c, gfmd_relax(c, tol, 100000, &more));
+            assert_int_equal(first + more, taken);
+        }
+        gfmd_sim_destroy(&a);
+        gfmd_sim_destroy(&b);
+        gfmd_sim_destroy(&c);
+    }
+    assert_true(cases > 0);
+}
+
 static void relax_with(int32_t solver, double width, double sigma0, double gamma0, double out[4]) {
     gfmd_sim *s = ts_create(64, 64, 64.0, 64.0);
     TS_OK(s, gfmd_generate_selfaffine(s, 0.8, 16.0, 4.0, 1.0, 99, GFMD_DIST_UNIFORM));
@@ -231,6 +272,7 @@ int main(void) {
         cmocka_unit_test(mass_weighted),
         cmocka_unit_test(conjugate_gradients),
         cmocka_unit_test(cg_tests_every_third_iteration),
+        cmocka_unit_test(cg_between_tests_not_converged),
         cmocka_unit_test(solvers_agree),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
