@@ -3,7 +3,7 @@
  * substrate, the collapse factor c(W), the separation, and the adhesive energy ratio theta; with
  * --pulloff also the pull-off stress of each adhesive sheet (pulloff.c, Fig. 8).
  *
- *   gfmd_paper [--n N] [--bandwidth R] [--full | --quick] [--out DIR] [--seed S] [--threads T]
+ *   gfmd_paper [--n N] [--bandwidth R] [--full | --quick] [--out DIR] [--seed S] [--threads T] [--jobs J]
  *              [--no-adhesion | --adhesion-only] [--widths 0,W1,W2,...] [--adh-widths W1,...] [--pulloff]
  *              [--solver auto|fire|mass|cg] [--multilevel LEVELS] [--approach STEPS]
  *
@@ -14,6 +14,9 @@
  * --approach STEPS: each relaxation (but a multilevel first load) starts with at most STEPS
  * mass-weighted FIRE steps, then continues with the chosen solver to the tolerance (mass weighting
  * approaches the equilibrium fast and then converges slowly; docs/performance.md).
+ * --jobs J: J bodies at a time, each in its own thread with --threads threads (default 1 then);
+ * the printed blocks keep the study's order and, with the same FFT plans (--planner estimate),
+ * the numbers do not depend on J (bodies.c).  --planner: FFTW's rigour (default measure).
  * Writes CSV tables into DIR (one per figure, see docs/paper/README.md) and prints the fits
  * (fits.c says which). */
 #include <errno.h>
@@ -49,7 +52,7 @@ void die(const gfmd_sim *s, int32_t st, const char *what) {
 }
 
 static void usage(const char *argv0) {
-    fprintf(stderr, "usage: %s [--n N] [--bandwidth R] [--full | --quick] [--out DIR] [--seed S] [--threads T] [--no-adhesion | --adhesion-only] [--widths 0,W1,...] [--adh-widths W1,...] [--pulloff] [--solver auto|fire|mass|cg] [--multilevel LEVELS] [--approach STEPS]\n",
+    fprintf(stderr, "usage: %s [--n N] [--bandwidth R] [--full | --quick] [--out DIR] [--seed S] [--threads T] [--jobs J] [--planner measure|estimate] [--no-adhesion | --adhesion-only] [--widths 0,W1,...] [--adh-widths W1,...] [--pulloff] [--solver auto|fire|mass|cg] [--multilevel LEVELS] [--approach STEPS]\n",
             argv0);
     exit(2);
 }
@@ -60,10 +63,12 @@ static void set_widths(double *to, int *n, const double *from, int count) {
 }
 
 static options parse_options(int argc, char **argv) {
-    options o = {256, 32.0, 2016, 0, 1, 0, GFMD_SOLVER_AUTO, 1, 0, ".", {0}, {0}, 0, 0};
+    options o = {.n = 256, .bandwidth = 32.0, .seed = 2016, .threads = 0, .jobs = 1, .planner = GFMD_PLANNER_MEASURE, .adhesion = 1, .pulloff = 0,
+                 .solver = GFMD_SOLVER_AUTO, .levels = 1, .approach = 0, .dir = "."};
     set_widths(o.widths, &o.n_widths, ALL_WIDTHS, COUNT(ALL_WIDTHS));
     set_widths(o.adh_widths, &o.n_adh, ALL_ADH_WIDTHS, COUNT(ALL_ADH_WIDTHS));
     int adhesion_only = 0; /* applied after the loop: --quick or --widths later cannot undo it */
+    int threads_given = 0;
     for (int i = 1; i < argc; ++i) {
         if (!strcmp(argv[i], "--n") && i + 1 < argc) o.n = strtol(argv[++i], NULL, 10);
         else if (!strcmp(argv[i], "--bandwidth") && i + 1 < argc) o.bandwidth = strtod(argv[++i], NULL);
@@ -75,7 +80,14 @@ static options parse_options(int argc, char **argv) {
         }
         else if (!strcmp(argv[i], "--out") && i + 1 < argc) o.dir = argv[++i];
         else if (!strcmp(argv[i], "--seed") && i + 1 < argc) o.seed = strtoull(argv[++i], NULL, 10);
-        else if (!strcmp(argv[i], "--threads") && i + 1 < argc) o.threads = strtol(argv[++i], NULL, 10);
+        else if (!strcmp(argv[i], "--threads") && i + 1 < argc) o.threads = strtol(argv[++i], NULL, 10), threads_given = 1;
+        else if (!strcmp(argv[i], "--jobs") && i + 1 < argc) o.jobs = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--planner") && i + 1 < argc) {
+            ++i; /* estimate: the same FFT plans in every run, so runs compare bit for bit (the test's) */
+            if (!strcmp(argv[i], "measure")) o.planner = GFMD_PLANNER_MEASURE;
+            else if (!strcmp(argv[i], "estimate")) o.planner = GFMD_PLANNER_ESTIMATE;
+            else usage(argv[0]);
+        }
         else if (!strcmp(argv[i], "--no-adhesion")) o.adhesion = 0;
         else if (!strcmp(argv[i], "--adhesion-only")) adhesion_only = 1; /* Fig. 7 (and 8) alone */
         else if (!strcmp(argv[i], "--pulloff")) o.pulloff = 1;
@@ -118,6 +130,11 @@ static options parse_options(int argc, char **argv) {
         fprintf(stderr, "gfmd_paper: --adhesion-only with --no-adhesion leaves nothing to run\n");
         exit(2);
     }
+    if (o.jobs < 1 || o.jobs > MAX_JOBS) {
+        fprintf(stderr, "gfmd_paper: --jobs takes 1 to %d bodies at a time\n", MAX_JOBS);
+        exit(2);
+    }
+    if (o.jobs > 1 && !threads_given) o.threads = 1; /* J bodies at a time share the cores: one thread each */
     if (o.approach < 0 || o.approach > 1000000) {
         fprintf(stderr, "gfmd_paper: --approach takes 0 (none) to 1000000 mass-weighted steps\n");
         exit(2);
@@ -141,7 +158,7 @@ static gfmd_sim *make_surface(const options *o, double *u_max) {
            "H = %.1f, g = %.0f, E* = %.0f, seed %llu\n",
            o->n, o->n, l, LAMBDA_S, lambda_r, o->bandwidth, l / lambda_r, HURST, GRADIENT, E_STAR, o->seed);
     gfmd_sim *surface = NULL;
-    CHECK(NULL, gfmd_sim_create_ex(o->n, o->n, l, l, (int32_t)o->threads, GFMD_PLANNER_MEASURE, &surface));
+    CHECK(NULL, gfmd_sim_create_ex(o->n, o->n, l, l, (int32_t)o->threads, o->planner, &surface));
     CHECK(surface, gfmd_generate_selfaffine(surface, HURST, lambda_r, LAMBDA_S, GRADIENT, o->seed, GFMD_DIST_UNIFORM));
     double *h = malloc(sizeof(double) * (size_t)(o->n * o->n));
     if (!h) die(NULL, GFMD_ERR_NOMEM, "heights");
@@ -157,19 +174,28 @@ int main(int argc, char **argv) {
     const options o = parse_options(argc, argv);
     double u_max = 0.0;
     gfmd_sim *surface = make_surface(&o, &u_max);
+    if (o.jobs > 1) printf("bodies swept %d at a time, %ld thread(s) each\n", o.jobs, o.threads);
     const double t_start = now();
     fits f = {NAN, {0}, {NAN, NAN}, {{NAN, NAN}, {NAN, NAN}, {NAN, NAN}}, NAN};
 
-    /* Figs. 3, 4, 6: load sweeps without adhesion, with Persson's theory beside them */
-    static sweep sw[MAX_BODIES];
-    double first = 0.0; /* the sweeps' first loads, each from a flat start */
+    /* Every body's sweep (o.jobs at a time): those without adhesion first (Figs. 3-6), then the
+     * adhesive sheets (Fig. 7) */
+    static body bodies[2 * MAX_BODIES];
+    int n = 0;
+    for (int b = 0; b < o.n_widths; ++b) bodies[n++] = (body){.W = o.widths[b], .adhesive = 0};
+    for (int b = 0; o.adhesion && b < o.n_adh; ++b) bodies[n++] = (body){.W = o.adh_widths[b], .adhesive = 1};
+    run_bodies(surface, u_max, &o, bodies, n);
+    double first = 0.0;  /* the sweeps' first loads, each from a flat start */
     long long steps = 0; /* every relaxation step of every sweep */
+    static sweep sw[MAX_BODIES], ad[MAX_BODIES];
+    for (int k = 0; k < n; ++k) {
+        first += bodies[k].out.p[0].seconds;
+        steps += sweep_steps(&bodies[k].out);
+        if (k < o.n_widths) sw[k] = bodies[k].out;
+        else ad[k - o.n_widths] = bodies[k].out;
+    }
+
     if (o.n_widths > 0) { /* not with --adhesion-only */
-        for (int b = 0; b < o.n_widths; ++b) {
-            run_sweep(surface, o.widths[b], 0, u_max, &o, &sw[b]);
-            first += sw[b].p[0].seconds;
-            steps += sweep_steps(&sw[b]);
-        }
         write_load_tables(sw, &o);
         write_persson_curves(surface, sw, &o);
 
@@ -181,12 +207,6 @@ int main(int argc, char **argv) {
 
     /* Fig. 7: theta = U_el/U_ad with adhesion */
     if (o.adhesion) {
-        static sweep ad[MAX_BODIES];
-        for (int b = 0; b < o.n_adh; ++b) {
-            run_sweep(surface, o.adh_widths[b], 1, u_max, &o, &ad[b]);
-            first += ad[b].p[0].seconds;
-            steps += sweep_steps(&ad[b]);
-        }
         write_theta_tables(ad, &o);
         fit_theta(ad, &o, &f);
         /* Fig. 8: the pull-off stress of the same sheets, beside theta */

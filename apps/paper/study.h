@@ -6,8 +6,9 @@
 
 #include <gfmd.h>
 #include <stddef.h>
+#include <stdio.h>
 
-enum { MAX_LOADS = 16, MAX_BODIES = 16, N_TARGETS = 3 };
+enum { MAX_LOADS = 16, MAX_BODIES = 16, N_TARGETS = 3, MAX_JOBS = 2 * MAX_BODIES };
 
 /* The paper's surface and body (Putignano, Dapp & Mueser 2016, Sec. 3): H = 0.8, lambda_s = 4a,
  * rms gradient g = 1, E* = 1; adhesion gamma0 = 5e-4 E* a with range rho = a. */
@@ -30,7 +31,9 @@ typedef struct {
     long n;                 /* grid points per side */
     double bandwidth;       /* lambda_r / lambda_s */
     unsigned long long seed;
-    long threads;           /* 0 = the library's default */
+    long threads;           /* each body's handle: 0 = the library's default */
+    int jobs;               /* bodies swept at a time (bodies.c) */
+    int32_t planner;        /* GFMD_PLANNER_* of every handle */
     int adhesion;           /* run the adhesive sweeps of Fig. 7 */
     int pulloff;            /* and the pull-off of each adhesive sheet (Fig. 8) */
     int32_t solver;         /* GFMD_SOLVER_* */
@@ -51,6 +54,15 @@ typedef struct {
     int n;
     point p[MAX_LOADS];
 } sweep;
+
+/* One body of the study: its sweep, and (bodies.c) its printed block while it waits to be printed. */
+typedef struct {
+    double W;
+    int adhesive;
+    sweep out;
+    char *text;
+    int done;
+} body;
 
 typedef struct {
     double kappa;
@@ -82,7 +94,10 @@ double now(void);
 gfmd_sim *make_body(const gfmd_sim *surface, double W, int32_t solver);
 /* The relaxation steps of one sweep (this grid's; a multilevel start's coarse steps not counted). */
 long long sweep_steps(const sweep *s);
-void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, const options *o, sweep *out);
+void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, const options *o, sweep *out,
+               FILE *log);
+/* bodies.c: the sweeps of n bodies, o->jobs at a time, their blocks printed in the given order */
+void run_bodies(const gfmd_sim *surface, double u_max, const options *o, body *bodies, int n);
 /* pulloff.c */
 void run_pulloff(const gfmd_sim *surface, double W, double u_max, int32_t solver, pulloff *out);
 /* fits.c */

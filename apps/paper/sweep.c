@@ -48,7 +48,8 @@ static void relax_with_approach(gfmd_sim *s, int32_t solver, const options *o, i
     *steps = first + rest;
 }
 
-void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, const options *o, sweep *out) {
+void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, const options *o, sweep *out,
+               FILE *log) {
     /* CG refuses adhesion: the adhesive sweeps then take the library's automatic choice */
     const int32_t solver = adhesive && o->solver == GFMD_SOLVER_CG ? GFMD_SOLVER_AUTO : o->solver;
     const int levels = o->levels;
@@ -58,9 +59,9 @@ void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, co
     out->n = N_LOADS;
     double variance = 0.0; /* Persson's full-contact pressure variance: one FFT per body */
     CHECK(s, gfmd_persson_variance(s, &variance));
-    printf("\n%s%s, W = w/lambda_s = %g\n", W > 0 ? "layer on a fluid foundation" : "half-space",
+    fprintf(log, "\n%s%s, W = w/lambda_s = %g\n", W > 0 ? "layer on a fluid foundation" : "half-space",
            adhesive ? " with adhesion" : "", W);
-    printf("%12s %10s %10s %10s %12s %12s %7s %7s\n", "sigma0/E*g", "A/A0", "Persson", "s", "U_el", "U_ad", "steps",
+    fprintf(log, "%12s %10s %10s %10s %12s %12s %7s %7s\n", "sigma0/E*g", "A/A0", "Persson", "s", "U_el", "U_ad", "steps",
            "seconds");
     for (int k = 0; k < N_LOADS; ++k) {
         point *p = &out->p[k];
@@ -82,13 +83,13 @@ void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, co
         CHECK(s, gfmd_get_mean_gap(s, &p->gap));
         CHECK(s, gfmd_get_energies(s, &p->u_el, &p->u_ad));
         p->sep = p->gap / u_max; /* s = 1 - <u>/u_max = mean gap / (max h - <h>) */
-        printf("%12.4e %10.5f %10.5f %10.5f %12.5e %12.5e %7lld %7.2f\n", p->sigma0 / (E_STAR * GRADIENT), p->area,
+        fprintf(log, "%12.4e %10.5f %10.5f %10.5f %12.5e %12.5e %7lld %7.2f\n", p->sigma0 / (E_STAR * GRADIENT), p->area,
                p->persson, p->sep, p->u_el, p->u_ad, p->steps, p->seconds);
-        fflush(stdout);
+        fflush(log);
     }
     double seconds = 0.0;
     for (int k = 0; k < N_LOADS; ++k) seconds += out->p[k].seconds;
-    printf("this body: %lld steps, %.2f s; its first load (from flat) %lld steps, %.2f s\n", sweep_steps(out), seconds,
+    fprintf(log, "this body: %lld steps, %.2f s; its first load (from flat) %lld steps, %.2f s\n", sweep_steps(out), seconds,
            out->p[0].steps, out->p[0].seconds);
     gfmd_sim_destroy(&s);
 }

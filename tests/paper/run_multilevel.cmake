@@ -2,6 +2,9 @@
 # adhesion) with each body's first load relaxed from flat and from coarser grids, and with every
 # relaxation started by 100 mass-weighted steps, reaches the same equilibria (check_paper
 # --same-equilibrium); a bad level count or approach is refused with exit status 2.
+# gfmd_paper --jobs: the bodies swept two and three at a time (with and without adhesion) write the
+# same tables, bit for bit but the seconds, as one at a time (same FFT plans: --planner estimate),
+# and print the bodies' blocks in the same order; --jobs 0 and --jobs 33 are refused.
 file(REMOVE_RECURSE ${OUT})
 file(MAKE_DIRECTORY ${OUT})
 set(args --n 64 --bandwidth 8 --widths 0,0.25,0.0625 --no-adhesion --threads 1)
@@ -40,3 +43,38 @@ run_study(approach --approach 100)
 expect_same(levels1 approach "the mass-weighted approach")
 expect_refused(--multilevel 0)
 expect_refused(--approach -1)
+
+# --jobs: tables and the order of the printed blocks against one body at a time
+set(args --n 64 --bandwidth 8 --widths 0,0.25,0.0625 --adh-widths 0.25,0.0625 --threads 1 --planner estimate)
+foreach(jobs 1 2 3)
+  execute_process(COMMAND ${STUDY} ${args} --jobs ${jobs} --out ${OUT}/jobs${jobs}
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE log${jobs} ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "gfmd_paper --jobs ${jobs} failed (${rc}):\n${log${jobs}}${err}")
+  endif()
+  string(REGEX MATCHALL "\n[^\n]*W = w/lambda_s = [^\n]*" order${jobs} "${log${jobs}}")
+  file(GLOB tables${jobs} RELATIVE ${OUT}/jobs${jobs} ${OUT}/jobs${jobs}/*.csv)
+endforeach()
+list(LENGTH order1 bodies)
+if(NOT bodies EQUAL 5)
+  message(FATAL_ERROR "--jobs 1 printed ${bodies} bodies, not 5:\n${log1}")
+endif()
+foreach(jobs 2 3)
+  if(NOT order${jobs} STREQUAL order1 OR NOT tables${jobs} STREQUAL tables1)
+    message(FATAL_ERROR "--jobs ${jobs}: bodies ${order${jobs}} and tables ${tables${jobs}}, one at a time ${order1} and ${tables1}")
+  endif()
+  foreach(table IN LISTS tables1)
+    file(READ ${OUT}/jobs1/${table} a)
+    file(READ ${OUT}/jobs${jobs}/${table} b)
+    if(table STREQUAL "fig3_area.csv") # its last column is each load's wall time
+      string(REGEX REPLACE ",[^,\n]*\n" "\n" a "${a}")
+      string(REGEX REPLACE ",[^,\n]*\n" "\n" b "${b}")
+    endif()
+    if(NOT a STREQUAL b)
+      message(FATAL_ERROR "--jobs ${jobs} wrote another ${table}:\n${b}\none at a time:\n${a}")
+    endif()
+  endforeach()
+  message("--jobs ${jobs}: the same ${bodies} bodies in the same order, the same tables")
+endforeach()
+expect_refused(--jobs 0)
+expect_refused(--jobs 33)
