@@ -186,8 +186,8 @@ GFMD_API int32_t gfmd_set_pressure(gfmd_sim *s, double sigma0);
  * GFMD_ERR_INVALID_ARG if d is not finite or below the substrate's mean height (a body with z >= h
  * cannot have a smaller mean).  gfmd_set_pressure() returns to pressure control.  Works with
  * GFMD_SOLVER_AUTO, GFMD_SOLVER_FIRE, GFMD_SOLVER_CG (without adhesion) and GFMD_SOLVER_VERLET;
- * GFMD_ERR_STATE with GFMD_SOLVER_FIRE_MASS (which stalls
- * with the mean held; gfmd_set_solver() refuses it under displacement control likewise).
+ * GFMD_ERR_STATE with GFMD_SOLVER_FIRE_MASS or GFMD_SOLVER_MASS_FIRE (mass weighting stalls
+ * with the mean held; gfmd_set_solver() refuses them under displacement control likewise).
  * Checkpoints keep the mode.
  */
 GFMD_API int32_t gfmd_set_mean_displacement(gfmd_sim *s, double d);
@@ -229,7 +229,10 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * not too soft, S sqrt(nx ny) <= 4e4 with S = k_halfspace(q_max)/k_min -- a bonded coating of any
  * Poisson's ratio, a half-space up to about 240^2 -- and on a layer on a fluid foundation where
  * Persson's A/A0 at the load is >= 0.3 and the body starts (nearly) flat, touching at most
- * 2 sqrt(nx ny) points; GFMD_SOLVER_FIRE otherwise; re-chosen whenever the body, the adhesion or
+ * 2 sqrt(nx ny) points; otherwise, with or without adhesion, GFMD_SOLVER_MASS_FIRE on a layer on
+ * a fluid foundation whose longest wave is at least 5000 times softer than a half-space's,
+ * f(q_min w) >= 5000 (a thin sheet: W = w/lambda_s <= 1 at 256^2 with lambda_s = 4a, W <= 4 at
+ * 2048^2); GFMD_SOLVER_FIRE otherwise; re-chosen whenever the body, the adhesion or
  * the load control changes; the rule and its measurements are in docs/performance.md;
  * gfmd_get_solver() tells the choice),
  * GFMD_SOLVER_CG (constrained conjugate gradients: under pressure control on a half-space or a
@@ -251,7 +254,13 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * criterion, and reach the same equilibrium.  A step of GFMD_SOLVER_FIRE_MASS costs two FFT pairs
  * instead of one and it needs one byte per point more (GFMD_ERR_NOMEM, nothing changed, if that
  * cannot be had); it pays on thin sheets and at low loads, where it needs 2-5x fewer steps
- * (docs/performance.md).
+ * (docs/performance.md), GFMD_SOLVER_MASS_FIRE (after every restart of the solver -- a new load,
+ * adhesion, body, gfmd_restart_solver() ... -- at most 100 steps of GFMD_SOLVER_FIRE_MASS, then
+ * GFMD_SOLVER_FIRE from where they got, the velocities kept: mass weighting nears a soft body's
+ * equilibrium fast and then converges slowly, FIRE finishes fast; bit for bit what
+ * gfmd_step(100) with GFMD_SOLVER_FIRE_MASS followed by gfmd_set_solver(GFMD_SOLVER_FIRE) gives;
+ * the count of approach steps is part of the solver's state, so chunks and checkpoints follow one
+ * call; like GFMD_SOLVER_FIRE_MASS it needs one byte per point and refuses displacement control).
  */
 GFMD_API int32_t gfmd_set_solver(gfmd_sim *s, int32_t solver);
 

@@ -151,4 +151,11 @@ double long_wave_softness(const FftGrid &grid, const Body &body, double e_star) 
     return 0.5 * e_star * std::sqrt(qx * qx + qy * qy) / body.k_min;
 }
 
+double longest_wave_softness(const FftGrid &grid, const Body &body, double e_star) {
+    // the smallest non-zero |q|: one period along the longer side (a single row or column has none)
+    const double inf = std::numeric_limits<double>::infinity();
+    const double q = std::min(grid.nx() > 1 ? std::fabs(grid.qx(1)) : inf, grid.ny() > 1 ? std::fabs(grid.qy(1)) : inf);
+    return std::isfinite(q) ? 0.5 * e_star * q / body.k_min : 1.0;
+}
+
 }  // namespace gfmd

@@ -27,6 +27,10 @@ Body make_body(const FftGrid &grid, int32_t kind, double width, double e_star, d
 // huge on a layer on a fluid foundation.  What the constrained CG's iteration count follows.
 double long_wave_softness(const FftGrid &grid, const Body &body, double e_star);
 
+// How much softer the body's softest mode is than a half-space at the same (smallest) wave
+// vector, k_hs(q_min) / k_min: f(q_min w) on a layer, 1 on a half-space.
+double longest_wave_softness(const FftGrid &grid, const Body &body, double e_star);
+
 // 1/f(t) for a kind of body (GFMD_GREEN_*), t = q w > 0, nu used by the bonded layer only.
 // Finite and >= 0 for every finite t > 0; the mode stiffness is q E* / 2 * inverse_factor.
 double green_inverse_factor(int32_t kind, double t, double nu);

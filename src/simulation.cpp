@@ -221,10 +221,12 @@ constexpr const char *kCgNotAdhesive =
 // the mean held by the projection it stalled (residual 0.1-0.3 after 1e6 steps, measured), so the
 // combination is refused rather than left to fail.
 constexpr const char *kNoMassWeighting =
-    "mass-weighted FIRE does not support displacement control; choose GFMD_SOLVER_FIRE or GFMD_SOLVER_VERLET";
+    "mass-weighted FIRE (GFMD_SOLVER_FIRE_MASS, GFMD_SOLVER_MASS_FIRE) does not support displacement control; "
+    "choose GFMD_SOLVER_FIRE, GFMD_SOLVER_VERLET or GFMD_SOLVER_AUTO";
 
 void Simulation::set_mean_displacement(double d) {
-    if (params_.solver == GFMD_SOLVER_FIRE_MASS) fail(GFMD_ERR_STATE, kNoMassWeighting);
+    if (params_.solver == GFMD_SOLVER_FIRE_MASS || params_.solver == GFMD_SOLVER_MASS_FIRE)
+        fail(GFMD_ERR_STATE, kNoMassWeighting);
     check_mean_displacement(d, fields_.h.data());
     const Params old = params_;
     undo_.save(fields_);
@@ -298,17 +300,33 @@ constexpr double kAutoCgBound = 4e4;
 // 0.27 -> 0.39: FIRE 312 steps, CG 678 iterations): CG only from a start that touches at most
 // 2 sqrt(N) points.
 constexpr double kAutoCgFluidArea = 0.3;
+// Elsewhere on a layer on a fluid foundation, at most 100 mass-weighted FIRE steps after each
+// restart, then FIRE (GFMD_SOLVER_MASS_FIRE), where the longest wave is much softer than on a
+// half-space: f(q_min w) = k_halfspace(q_min)/k(q_min) >= 5000.  Measured on the seed paper's
+// study (gfmd_paper --approach 100 against plain FIRE, per body; docs/performance.md): at 256^2
+// W = 1 (f = 6.4e3) and thinner were faster with the approach, W = 2 (f = 795) and thicker
+// slower; at 2048^2 W = 4 (f = 5e4) and thinner took fewer FFT pairs, W = 10 (f = 3.2e3) as many,
+// W = 100 and the half-space more.  From flat the approach was 1.6-7.6x faster than FIRE on thin
+// sheets (512^2, 1024^2, with and without adhesion; gfmd_bench --first-load).
+constexpr double kAutoApproachSoftness = 5e3;
 
 int32_t Simulation::resolve_solver(int32_t requested) const {
     if (requested != GFMD_SOLVER_AUTO) return requested;
     // measured under pressure control only: displacement control keeps FIRE
-    const bool quadratic = !(params_.gamma0 > 0.0) && params_.control == kPressureControl;
-    if (!quadratic) return GFMD_SOLVER_FIRE;
+    if (params_.control != kPressureControl) return GFMD_SOLVER_FIRE;
+    const bool quadratic = !(params_.gamma0 > 0.0);
     if (params_.kind == GFMD_GREEN_LAYER_FLUID) {
-        const double area = gfmd::persson_contact_area(gfmd::persson_variance(grid_, body_, fields_), params_.sigma0);
-        const bool fresh = static_cast<double>(forces_.contacts) <= 2.0 * std::sqrt(static_cast<double>(grid_.real_size()));
-        return (area >= kAutoCgFluidArea && fresh) ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE;
+        if (quadratic) {
+            const double area =
+                gfmd::persson_contact_area(gfmd::persson_variance(grid_, body_, fields_), params_.sigma0);
+            const bool fresh =
+                static_cast<double>(forces_.contacts) <= 2.0 * std::sqrt(static_cast<double>(grid_.real_size()));
+            if (area >= kAutoCgFluidArea && fresh) return GFMD_SOLVER_CG;
+        }
+        const double softness = longest_wave_softness(grid_, body_, params_.e_star);
+        return (softness >= kAutoApproachSoftness) ? GFMD_SOLVER_MASS_FIRE : GFMD_SOLVER_FIRE;
     }
+    if (!quadratic) return GFMD_SOLVER_FIRE;
     const double cost = long_wave_softness(grid_, body_, params_.e_star) * std::sqrt(static_cast<double>(grid_.real_size()));
     return (cost <= kAutoCgBound) ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE;
 }
@@ -321,7 +339,7 @@ void Simulation::follow_auto_choice() {
 }
 
 void Simulation::set_solver(int32_t solver) {
-    if (solver == GFMD_SOLVER_FIRE_MASS && params_.control == kDisplacementControl)
+    if ((solver == GFMD_SOLVER_FIRE_MASS || solver == GFMD_SOLVER_MASS_FIRE) && params_.control == kDisplacementControl)
         fail(GFMD_ERR_STATE, kNoMassWeighting);
     if (solver == GFMD_SOLVER_CG && params_.gamma0 > 0.0) fail(GFMD_ERR_STATE, kCgNotAdhesive);
     const int32_t kind = resolve_solver(solver);

@@ -31,7 +31,7 @@ def test_trajectories_are_those_of_c():
     for line in (ROOT / "tests" / "trajectory" / "reference.txt").read_text().splitlines():
         solver, body, stage, *fields = line.split()
         expected[(solver, body, stage)] = dict(f.split("=") for f in fields)
-    solvers = {"verlet": gfmd.VERLET, "fire": gfmd.FIRE, "fire_mass": gfmd.FIRE_MASS}
+    solvers = {"verlet": gfmd.VERLET, "fire": gfmd.FIRE, "fire_mass": gfmd.FIRE_MASS, "mass_fire": gfmd.MASS_FIRE}
     for sname, solver in solvers.items():
         for body in ("halfspace", "fluid_w4", "bonded_w8_adhesive"):
             with gfmd.Simulation(64, 48, 64.0, 48.0, threads=1, planner=gfmd.ESTIMATE) as s:

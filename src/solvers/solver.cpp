@@ -7,6 +7,7 @@
 #include "cg.hpp"
 #include "fire.hpp"
 #include "fire_mass.hpp"
+#include "mass_fire.hpp"
 #include "verlet.hpp"
 
 namespace gfmd {
@@ -28,6 +29,7 @@ std::unique_ptr<Solver> make_solver(int32_t kind, const FftGrid &grid, const Dyn
         case GFMD_SOLVER_VERLET: s = std::make_unique<Verlet>(); break;
         case GFMD_SOLVER_FIRE: s = std::make_unique<Fire>(); break;
         case GFMD_SOLVER_FIRE_MASS: s = std::make_unique<FireMass>(grid); break;
+        case GFMD_SOLVER_MASS_FIRE: s = std::make_unique<MassThenFire>(grid); break;
         case GFMD_SOLVER_CG: s = std::make_unique<ConjugateGradient>(grid); break;
         default: fail(GFMD_ERR_BAD_ENUM, "unknown solver " + std::to_string(kind));
     }

@@ -116,11 +116,18 @@ static void adhesion_mass_weighted(void **state) {
     check_body(GFMD_GREEN_LAYER_FLUID, 1.0, GFMD_SOLVER_FIRE_MASS);
 }
 
+/* And for the approach then FIRE (the default's choice on adhesive thin sheets). */
+static void adhesion_approach_then_fire(void **state) {
+    (void)state;
+    check_body(GFMD_GREEN_LAYER_FLUID, 1.0, GFMD_SOLVER_MASS_FIRE);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(adhesion_halfspace),
         cmocka_unit_test(adhesion_layer),
         cmocka_unit_test(adhesion_mass_weighted),
+        cmocka_unit_test(adhesion_approach_then_fire),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -210,7 +210,7 @@ static void bad_enums_and_combinations(void **state) {
     gfmd_sim *s = *state;
     EXPECT(s, gfmd_set_green(s, 3, 1.0), GFMD_ERR_BAD_ENUM);
     EXPECT(s, gfmd_set_green(s, -1, 1.0), GFMD_ERR_BAD_ENUM);
-    EXPECT(s, gfmd_set_solver(s, GFMD_SOLVER_AUTO + 1), GFMD_ERR_BAD_ENUM);
+    EXPECT(s, gfmd_set_solver(s, GFMD_SOLVER_MASS_FIRE + 1), GFMD_ERR_BAD_ENUM);
     EXPECT(s, gfmd_set_solver(s, -1), GFMD_ERR_BAD_ENUM);
     EXPECT(s, gfmd_generate_selfaffine(s, 0.8, 12.0, 3.0, 1.0, 3, 2), GFMD_ERR_BAD_ENUM);
     /* the bonded layer needs Poisson's ratio first */
@@ -261,12 +261,21 @@ static void automatic_choice(void **state) {
     assert_int_equal(chosen(512, GFMD_GREEN_HALFSPACE, 0.0, 0.05, 0.0, 0), GFMD_SOLVER_FIRE);
     /* a bonded coating, w = 8: S = 15, whatever the grid up to 2600^2 */
     assert_int_equal(chosen(512, GFMD_GREEN_LAYER_BONDED, 8.0, 0.05, 0.0, 0), GFMD_SOLVER_CG);
-    /* a thin sheet on a fluid foundation: CG once Persson's A/A0 >= 0.3, FIRE at low load */
+    /* a thin sheet on a fluid foundation (w = 1, n = 128: f(q_min w) = 5e4): CG once Persson's
+     * A/A0 >= 0.3, at low load the mass-weighted approach then FIRE, with adhesion too */
     assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.05, 0.0, 0), GFMD_SOLVER_CG);
-    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.002, 0.0, 0), GFMD_SOLVER_FIRE);
-    /* adhesion or displacement control: FIRE */
+    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.002, 0.0, 0), GFMD_SOLVER_MASS_FIRE);
+    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.05, 1e-3, 0), GFMD_SOLVER_MASS_FIRE);
+    /* the approach's threshold f(q_min w) >= 5000 at 256^2: w = 4 (W = 1, f = 6.4e3) takes it,
+     * w = 8 (W = 2, f = 795) and a thick layer w = 64 (f = 1.1) keep FIRE */
+    assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 4.0, 0.002, 0.0, 0), GFMD_SOLVER_MASS_FIRE);
+    assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 8.0, 0.002, 0.0, 0), GFMD_SOLVER_FIRE);
+    assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 64.0, 0.002, 1e-3, 0), GFMD_SOLVER_FIRE);
+    /* adhesion elsewhere, or displacement control (mass weighting refuses it): FIRE */
     assert_int_equal(chosen(128, GFMD_GREEN_HALFSPACE, 0.0, 0.05, 1e-3, 0), GFMD_SOLVER_FIRE);
+    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_BONDED, 8.0, 0.05, 1e-3, 0), GFMD_SOLVER_FIRE);
     assert_int_equal(chosen(128, GFMD_GREEN_HALFSPACE, 0.0, 0.05, 0.0, 1), GFMD_SOLVER_FIRE);
+    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.002, 1e-3, 1), GFMD_SOLVER_FIRE);
 }
 
 /* CG's 16 bytes per point that cannot be had: GFMD_ERR_NOMEM and the solver unchanged.  In a child

@@ -117,8 +117,56 @@ static void mass_weighted(void **state) {
         {64, GFMD_GREEN_LAYER_FLUID, 4.0, 0.0, 0.05, GFMD_SOLVER_FIRE_MASS},   /* W = 1 */
         {64, GFMD_GREEN_LAYER_FLUID, 1.0, 0.0, 3e-4, GFMD_SOLVER_FIRE_MASS},   /* W = 0.25 */
         {64, GFMD_GREEN_LAYER_BONDED, 4.0, 0.3, 0.05, GFMD_SOLVER_FIRE_MASS},
+        /* the approach then FIRE (the default's choice on thin sheets at low load) */
+        {64, GFMD_GREEN_LAYER_FLUID, 1.0, 0.0, 3e-4, GFMD_SOLVER_MASS_FIRE},   /* W = 0.25 */
+        {128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.0, 1e-3, GFMD_SOLVER_MASS_FIRE},  /* W = 0.25, 128^2 */
+        {128, GFMD_GREEN_HALFSPACE, 0.0, 0.0, 0.05, GFMD_SOLVER_MASS_FIRE},
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) compare_with_cg(&cases[k]);
+}
+
+/* GFMD_SOLVER_MASS_FIRE is exactly what a caller gets by hand: 100 steps of mass-weighted FIRE,
+ * then FIRE from there (gfmd_set_solver restarts FIRE, the velocities carry over) -- the same bits
+ * and steps; and a relax in chunks of 7 steps (which cross the switch) follows one call. */
+static void approach_then_fire(void **state) {
+    (void)state;
+    const double adhesion[2] = {0.0, 1e-3};
+    for (int a = 0; a < 2; ++a) {
+        gfmd_sim *s[3];
+        for (int k = 0; k < 3; ++k) {
+            s[k] = ts_create(64, 64, 64.0, 64.0);
+            TS_OK(s[k], gfmd_generate_selfaffine(s[k], 0.8, 16.0, 4.0, 1.0, 99, GFMD_DIST_UNIFORM));
+            TS_OK(s[k], gfmd_set_green(s[k], GFMD_GREEN_LAYER_FLUID, 1.0));
+            if (adhesion[a] > 0.0) TS_OK(s[k], gfmd_set_adhesion(s[k], adhesion[a], 0.5));
+            TS_OK(s[k], gfmd_set_solver(s[k], k == 1 ? GFMD_SOLVER_FIRE_MASS : GFMD_SOLVER_MASS_FIRE));
+            TS_OK(s[k], gfmd_set_pressure(s[k], 3e-4));
+        }
+        int64_t n0 = 0, n1 = 0, n2 = 0, k = 0;
+        TS_OK(s[0], gfmd_relax(s[0], 1e-8, 500000, &n0));
+        TS_OK(s[1], gfmd_step(s[1], 100));
+        TS_OK(s[1], gfmd_set_solver(s[1], GFMD_SOLVER_FIRE));
+        TS_OK(s[1], gfmd_relax(s[1], 1e-8, 500000, &n1));
+        int32_t st;
+        while ((st = gfmd_relax(s[2], 1e-8, 7, &k)) == GFMD_ERR_NOT_CONVERGED) n2 += k;
+        TS_OK(s[2], st);
+        n2 += k;
+        print_message("approach then FIRE, gamma0 %g: %lld steps; by hand 100 + %lld; in chunks %lld\n", adhesion[a],
+                      (long long)n0, (long long)n1, (long long)n2);
+        assert_true(n0 > 100); /* the switch happened */
+        assert_int_equal(n0, 100 + n1);
+        assert_int_equal(n0, n2);
+        double *z[3];
+        for (int j = 0; j < 3; ++j) {
+            z[j] = ts_alloc(64 * 64);
+            TS_OK(s[j], gfmd_get_surface(s[j], z[j]));
+        }
+        assert_memory_equal(z[0], z[1], sizeof(double) * 64 * 64);
+        assert_memory_equal(z[0], z[2], sizeof(double) * 64 * 64);
+        for (int j = 0; j < 3; ++j) {
+            free(z[j]);
+            gfmd_sim_destroy(&s[j]);
+        }
+    }
 }
 
 /* The library's own CG (projected CG on the surface) against the reference, which iterates on the
@@ -242,13 +290,13 @@ static void solvers_agree(void **state) {
         double width, sigma0, gamma0;
     } cases[] = {{8.0, 0.05, 0.0}, {8.0, 0.05, 0.01}, {1.0, 3e-4, 0.0}, {1.0, 3e-4, 1e-4}};
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
-        double r[4][4];
+        double r[5][4];
         const int adhesive = cases[c].gamma0 > 0.0;
         /* CG (non-adhesive only) takes the place of the damped dynamics on the thin sheet, which
          * needs ~13 000 steps there */
-        const int32_t solvers[4] = {GFMD_SOLVER_FIRE, GFMD_SOLVER_FIRE_MASS,
+        const int32_t solvers[5] = {GFMD_SOLVER_FIRE, GFMD_SOLVER_MASS_FIRE, GFMD_SOLVER_FIRE_MASS,
                                     adhesive || cases[c].width >= 4.0 ? GFMD_SOLVER_VERLET : GFMD_SOLVER_CG, GFMD_SOLVER_CG};
-        const int nsolvers = adhesive ? (cases[c].width < 4.0 ? 2 : 3) : (cases[c].width < 4.0 ? 3 : 4);
+        const int nsolvers = adhesive ? (cases[c].width < 4.0 ? 3 : 4) : (cases[c].width < 4.0 ? 4 : 5);
         for (int k = 0; k < nsolvers; ++k)
             relax_with(solvers[k], cases[c].width, cases[c].sigma0, cases[c].gamma0, r[k]);
         for (int k = 1; k < nsolvers; ++k) {
@@ -270,6 +318,7 @@ int main(void) {
         cmocka_unit_test(fluid_layers),
         cmocka_unit_test(bonded_layer),
         cmocka_unit_test(mass_weighted),
+        cmocka_unit_test(approach_then_fire),
         cmocka_unit_test(conjugate_gradients),
         cmocka_unit_test(cg_tests_every_third_iteration),
         cmocka_unit_test(cg_between_tests_not_converged),

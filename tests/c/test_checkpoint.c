@@ -38,16 +38,22 @@ static void fields(const gfmd_sim *s, double *z, double *p) {
 
 static void restart_is_bit_exact(void **state) {
     (void)state;
-    for (int32_t solver = GFMD_SOLVER_VERLET; solver <= GFMD_SOLVER_FIRE_MASS; ++solver) {
-        gfmd_sim *a = make(solver), *b = NULL;
+    /* GFMD_SOLVER_MASS_FIRE saved inside its approach (37 of 100 mass-weighted steps) and resumed
+     * past its switch to FIRE (37 + 80 > 100) */
+    const int32_t solvers[] = {GFMD_SOLVER_VERLET, GFMD_SOLVER_FIRE, GFMD_SOLVER_FIRE_MASS, GFMD_SOLVER_MASS_FIRE};
+    for (size_t k = 0; k < sizeof solvers / sizeof solvers[0]; ++k) {
+        gfmd_sim *a = make(solvers[k]), *b = NULL;
         double za[NX * NY], pa[NX * NY], zb[NX * NY], pb[NX * NY];
         TS_OK(a, gfmd_step(a, 37));
         TS_OK(a, gfmd_sim_save(a, PATH));
         char msg[256] = "x";
         assert_int_equal(gfmd_sim_load(PATH, &b, msg, sizeof msg), GFMD_OK);
         assert_string_equal(msg, "");
-        TS_OK(a, gfmd_step(a, 50));
-        TS_OK(b, gfmd_step(b, 50));
+        int32_t solver_b = -1;
+        TS_OK(b, gfmd_get_solver(b, &solver_b));
+        assert_int_equal(solver_b, solvers[k]);
+        TS_OK(a, gfmd_step(a, 80));
+        TS_OK(b, gfmd_step(b, 80));
         fields(a, za, pa);
         fields(b, zb, pb);
         assert_memory_equal(za, zb, sizeof za);
@@ -102,6 +108,18 @@ static void auto_choice_survives_restart(void **state) {
     TS_OK(a, gfmd_step(a, 40));
     TS_OK(a, gfmd_sim_save(a, PATH));
     expect_resumed(a, GFMD_SOLVER_CG, 10);
+    /* an adhesive thin sheet (w = 0.25, f(q_min w) = 1e5): AUTO takes the mass-weighted approach
+     * then FIRE; saved inside the approach, resumed past its end */
+    a = ts_create(NX, NY, 40.0, 24.0);
+    TS_OK(a, gfmd_generate_selfaffine(a, 0.8, 20.0, 4.0, 0.1, 5, GFMD_DIST_UNIFORM));
+    TS_OK(a, gfmd_set_green(a, GFMD_GREEN_LAYER_FLUID, 0.25));
+    TS_OK(a, gfmd_set_adhesion(a, 1e-3, 0.5));
+    TS_OK(a, gfmd_set_pressure(a, 1e-3));
+    TS_OK(a, gfmd_get_solver(a, &active));
+    assert_int_equal(active, GFMD_SOLVER_MASS_FIRE);
+    TS_OK(a, gfmd_step(a, 60));
+    TS_OK(a, gfmd_sim_save(a, PATH));
+    expect_resumed(a, GFMD_SOLVER_MASS_FIRE, 90);
 }
 
 static long file_size(const char *path) {

@@ -171,7 +171,12 @@ static void constraint_errors_and_checkpoint(void **state) {
     TS_OK(s, gfmd_set_solver(s, GFMD_SOLVER_FIRE));
     TS_OK(s, gfmd_set_mean_displacement(s, hm + 0.4));
     assert_int_equal(gfmd_set_solver(s, GFMD_SOLVER_FIRE_MASS), GFMD_ERR_STATE);
+    /* so does the mass-weighted approach then FIRE, in both orders */
+    assert_int_equal(gfmd_set_solver(s, GFMD_SOLVER_MASS_FIRE), GFMD_ERR_STATE);
     TS_OK(s, gfmd_set_pressure(s, 0.0));
+    TS_OK(s, gfmd_set_solver(s, GFMD_SOLVER_MASS_FIRE));
+    assert_int_equal(gfmd_set_mean_displacement(s, hm + 0.4), GFMD_ERR_STATE);
+    TS_OK(s, gfmd_set_solver(s, GFMD_SOLVER_FIRE));
     double h[N], hmean = 0.0;
     TS_OK(s, gfmd_get_heights(s, h));
     for (int i = 0; i < N; ++i) hmean += h[i] / N;

@@ -130,7 +130,7 @@ static int32_t timestep_negative(gfmd_sim *s) { return gfmd_set_timestep(s, -1.0
 static int32_t timestep_nan(gfmd_sim *s) { return gfmd_set_timestep(s, NAN); }
 static int32_t damping_negative(gfmd_sim *s) { return gfmd_set_damping(s, -1.0); }
 static int32_t damping_inf(gfmd_sim *s) { return gfmd_set_damping(s, INFINITY); }
-static int32_t solver_unknown(gfmd_sim *s) { return gfmd_set_solver(s, GFMD_SOLVER_AUTO + 1); }
+static int32_t solver_unknown(gfmd_sim *s) { return gfmd_set_solver(s, GFMD_SOLVER_MASS_FIRE + 1); }
 static int32_t solver_cg_adhesive(gfmd_sim *s) { return gfmd_set_solver(s, GFMD_SOLVER_CG); }
 static int32_t threads_negative(gfmd_sim *s) { return gfmd_set_threads(s, -1); }
 static int32_t threads_too_many(gfmd_sim *s) { return gfmd_set_threads(s, 5000); }

@@ -45,12 +45,12 @@ int main(int argc, char **argv) {
     FILE *out = (argc > 1) ? fopen(argv[1], "w") : stdout;
     if (out == NULL) return 2;
     const int64_t nx = 64, ny = 48; /* non-square: the layout matters */
-    const int32_t solvers[3] = {GFMD_SOLVER_VERLET, GFMD_SOLVER_FIRE, GFMD_SOLVER_FIRE_MASS};
-    const char *solver_names[3] = {"verlet", "fire", "fire_mass"};
+    const int32_t solvers[4] = {GFMD_SOLVER_VERLET, GFMD_SOLVER_FIRE, GFMD_SOLVER_FIRE_MASS, GFMD_SOLVER_MASS_FIRE};
+    const char *solver_names[4] = {"verlet", "fire", "fire_mass", "mass_fire"};
     const char *body_names[3] = {"halfspace", "fluid_w4", "bonded_w8_adhesive"};
     double *z = malloc(sizeof(double) * (size_t)(nx * ny));
     int bad = (z == NULL);
-    for (int si = 0; si < 3 && !bad; ++si) {
+    for (int si = 0; si < 4 && !bad; ++si) {
         for (int b = 0; b < 3 && !bad; ++b) {
             gfmd_sim *s = NULL;
             bad |= check(NULL, gfmd_sim_create_ex(nx, ny, (double)nx, (double)ny, 1, GFMD_PLANNER_ESTIMATE, &s), "create");
