@@ -3,7 +3,7 @@
  * run, for half-space and layers on a fluid foundation.
  *
  *   gfmd_bench [--sizes 256,512,1024,2048] [--widths 0,0.5,1,4] [--threads N]
- *              [--cg-seconds S] [--no-cg] [--no-alt] [--sigma0 S] [--solver auto|fire|mass|verlet|cg]
+ *              [--cg-seconds S] [--no-cg] [--no-alt] [--sigma0 S] [--solver auto|fire|mass|mass+fire|verlet|cg]
  *   gfmd_bench ... --bonded NU   the layers bonded to a rigid base (Poisson's ratio NU) instead of on a
  *                                fluid foundation, in both GFMD and the CG reference
  *   gfmd_bench --contention [--sizes 512,1024,2048]
@@ -193,12 +193,17 @@ static gfmd_sim *bench_body(int n, double W, double sigma0, int32_t solver) {
     return s;
 }
 
+/* A solver's short name in the tables (GFMD_SOLVER_*). */
+static const char *solver_name(int32_t solver) {
+    static const char *const names[] = {"Verlet", "FIRE", "mass", "CG", "auto", "mass+FIRE"};
+    return solver >= 0 && solver < (int32_t)(sizeof names / sizeof names[0]) ? names[solver] : "?";
+}
+
 /* --loads: FIRE, mass-weighted FIRE and CG from flat to the default tolerance at each load, with
  * the default's choice (from the same flat start) and f(q_min w), the long-wave softness of the
  * layer against the half-space (1 for the half-space, 6/(q_min w)^3 for a thin plate). */
 static int loads_table(const double *sizes, int nsizes, const double *widths, int nwidths, const double *loads,
                        int nloads) {
-    const char *names[] = {"Verlet", "FIRE", "mass", "CG", "auto"};
     const int32_t solvers[3] = {GFMD_SOLVER_FIRE, GFMD_SOLVER_FIRE_MASS, GFMD_SOLVER_CG};
     printf("gfmd %s: FIRE, mass-weighted FIRE and CG from flat, layers on a fluid foundation (w = 4 W a), H = 0.8, "
            "lambda_s = 4a, lambda_r = n a/8, seed 2016, one thread, default tolerance\n", gfmd_version());
@@ -230,7 +235,7 @@ static int loads_table(const double *sizes, int nsizes, const double *widths, in
                 }
                 printf("%5d %6g %9.3g %8g | %8.3f %8.3f | %7lld %8.3f | %7lld %8.3f | %7lld %8.3f | %6s\n", n, widths[b],
                        widths[b] > 0 ? f : 1.0, loads[c], area, persson, (long long)steps[0], secs[0], (long long)steps[1],
-                       secs[1], (long long)steps[2], secs[2], choice >= 0 && choice <= 4 ? names[choice] : "?");
+                       secs[1], (long long)steps[2], secs[2], solver_name(choice));
                 fflush(stdout);
             }
     return 0;
@@ -275,26 +280,24 @@ static double persson_load(gfmd_sim *s, double area) {
 }
 
 /* --first-load: a thin sheet's first load from flat (the study's first load: Persson's A/A0 =
- * 0.004), without and with adhesion (gamma0 = 5e-4, rho = a), by each lever the library has: the
- * default solver, mass-weighted FIRE, the multilevel start (3 levels, default solver), and a
- * mass-weighted approach (at most APPROACH_STEPS mass-weighted steps, then the default solver
- * from there).  Steps and seconds to the default tolerance, and (chunks of 5 steps) until A/A0
- * stays within 0.1 % of the run's final value.  Mass-weighted FIRE is not run with adhesion
- * beyond 20 000 steps. */
-enum { APPROACH_STEPS = 200 };
+ * 0.004), without and with adhesion (gamma0 = 5e-4, rho = a), before and after each lever the
+ * library has: FIRE (before), mass-weighted FIRE, the multilevel start (3 levels, the default
+ * solver on each grid), and the default solver (on thin sheets the mass-weighted approach then
+ * FIRE, GFMD_SOLVER_MASS_FIRE).  Steps and seconds to the default tolerance, and (chunks of 5
+ * steps) until A/A0 stays within 0.1 % of the run's final value.  Mass-weighted FIRE is not run
+ * with adhesion beyond 20 000 steps. */
 static int first_load_table(const double *sizes, int nsizes, const double *widths, int nwidths, int threads) {
-    const char *names[] = {"Verlet", "FIRE", "mass", "CG", "auto"};
     printf("gfmd %s: a thin sheet's first load from flat (Persson A/A0 = 0.004), fluid foundation (w = 4 W a), "
            "H = 0.8, lambda_s = 4a, lambda_r = n a/8, g = 1, seed 2016, %d thread(s), default tol %.0e\n",
            gfmd_version(), threads, GFMD_DEFAULT_TOL);
-    printf("%5s %7s %4s %-10s | %8s | %7s %8s | %7s %8s\n", "n", "W", "adh", "lever", "A/A0", "steps", "s", "to 0.1%",
+    printf("%5s %7s %4s %-13s | %8s | %7s %8s | %7s %8s\n", "n", "W", "adh", "lever", "A/A0", "steps", "s", "to 0.1%",
            "s");
     for (int a = 0; a < nsizes; ++a)
         for (int b = 0; b < nwidths; ++b)
             for (int adh = 0; adh < 2; ++adh)
                 for (int lever = 0; lever < 4; ++lever) {
                     const int n = (int)sizes[a];
-                    const int32_t solver = (lever == 1 || lever == 3) ? GFMD_SOLVER_FIRE_MASS : GFMD_SOLVER_AUTO;
+                    const int32_t solver = lever == 0 ? GFMD_SOLVER_FIRE : lever == 1 ? GFMD_SOLVER_FIRE_MASS : GFMD_SOLVER_AUTO;
                     gfmd_sim *s = bench_body(n, widths[b], 0.01, solver);
                     int32_t st = gfmd_set_threads(s, threads);
                     if (st == GFMD_OK && adh) st = gfmd_set_adhesion(s, 5e-4, 1.0);
@@ -305,12 +308,6 @@ static int first_load_table(const double *sizes, int nsizes, const double *width
                     double area = 0.0, residual = 1.0, t_acc = -1.0;
                     int64_t steps = 0, steps_acc = -1;
                     const double t0 = now();
-                    if (lever == 3) { /* the approach, then the default solver below */
-                        st = gfmd_relax(s, 0.0, APPROACH_STEPS, &steps);
-                        if (st != GFMD_OK && st != GFMD_ERR_NOT_CONVERGED) die(s, st, "approach");
-                        if ((st = gfmd_set_solver(s, GFMD_SOLVER_AUTO)) != GFMD_OK) die(s, st, "solver");
-                        gfmd_get_residual(s, &residual);
-                    }
                     int32_t active = -1;
                     gfmd_get_solver(s, &active);
                     if (lever == 2) {
@@ -322,7 +319,6 @@ static int first_load_table(const double *sizes, int nsizes, const double *width
                     } else {
                         /* A/A0 every 5 steps; "to 0.1 %" is the last time it entered the final band */
                         int64_t k = 0, cap = 1 << 14;
-                        const int64_t start = steps; /* the approach's steps, if any */
                         double *trace = malloc(sizeof(double) * 2 * (size_t)cap);
                         const int64_t limit = (adh && lever == 1) ? 20000 : 4000000;
                         while (residual > GFMD_DEFAULT_TOL && steps < limit) {
@@ -334,10 +330,10 @@ static int first_load_table(const double *sizes, int nsizes, const double *width
                             ++k;
                             gfmd_get_residual(s, &residual);
                         }
-                        if (k == 0) gfmd_get_contact_area(s, &area); /* the approach converged */
+                        if (k == 0) gfmd_get_contact_area(s, &area); /* converged from the start */
                         else area = trace[2 * (k - 1)];
                         for (int64_t j = k - 1; j >= 0 && fabs(trace[2 * j] - area) <= 1e-3 * area; --j) {
-                            steps_acc = start + 5 * (j + 1); /* the approach is not traced: at least its steps */
+                            steps_acc = 5 * (j + 1);
                             t_acc = trace[2 * j + 1];
                         }
                         free(trace);
@@ -351,8 +347,8 @@ static int first_load_table(const double *sizes, int nsizes, const double *width
                     if (residual > GFMD_DEFAULT_TOL && lever != 2) snprintf(total, sizeof total, ">%lld", (long long)steps);
                     else snprintf(total, sizeof total, "%lld", (long long)steps);
                     char what[32];
-                    snprintf(what, sizeof what, "%s%s", lever == 2 ? "ml3+" : lever == 3 ? "mass+" : "", names[active]);
-                    printf("%5d %7g %4s %-10s | %8.5f | %7s %8.2f | %7s %8s\n", n, widths[b], adh ? "yes" : "no", what,
+                    snprintf(what, sizeof what, "%s%s", lever == 2 ? "ml3+" : "", solver_name(active));
+                    printf("%5d %7g %4s %-13s | %8.5f | %7s %8.2f | %7s %8s\n", n, widths[b], adh ? "yes" : "no", what,
                            area, total, t, acc_steps, acc_s);
                     fflush(stdout);
                     gfmd_sim_destroy(&s);
@@ -430,7 +426,6 @@ int main(int argc, char **argv) {
     double loads[8];
     double cg_seconds = 120.0, sigma0 = 0.05, bonded_nu = NAN;
     int32_t solver = GFMD_SOLVER_AUTO;
-    const char *solver_names[] = {"Verlet", "FIRE", "mass", "CG", "auto"};
     for (int i = 1; i < argc; ++i) {
         if (!strcmp(argv[i], "--sizes") && i + 1 < argc) nsizes = parse_list(argv[++i], sizes, 7), sizes_given = 1;
         else if (!strcmp(argv[i], "--big")) big = 1;
@@ -449,12 +444,12 @@ int main(int argc, char **argv) {
             ++i;
             solver = !strcmp(argv[i], "mass") ? GFMD_SOLVER_FIRE_MASS : !strcmp(argv[i], "verlet") ? GFMD_SOLVER_VERLET
                    : !strcmp(argv[i], "fire") ? GFMD_SOLVER_FIRE : !strcmp(argv[i], "cg") ? GFMD_SOLVER_CG
-                   : !strcmp(argv[i], "auto") ? GFMD_SOLVER_AUTO : -1;
+                   : !strcmp(argv[i], "auto") ? GFMD_SOLVER_AUTO : !strcmp(argv[i], "mass+fire") ? GFMD_SOLVER_MASS_FIRE : -1;
         } else
             solver = -1;
         if (solver < 0 || !(sigma0 > 0.0)) {
             fprintf(stderr, "usage: %s [--sizes 256,512,...] [--big] [--widths 0,0.5,1,4] [--threads N] "
-                            "[--cg-seconds S] [--no-cg] [--no-alt] [--sigma0 S] [--solver auto|fire|mass|verlet|cg] "
+                            "[--cg-seconds S] [--no-cg] [--no-alt] [--sigma0 S] [--solver auto|fire|mass|mass+fire|verlet|cg] "
                             "[--bonded NU] | --contention | --loads L,.. | --multilevel | --first-load | --big\n", argv[0]);
             return 2;
         }
@@ -481,7 +476,7 @@ int main(int argc, char **argv) {
     if (threads < 1) threads = 1;
     printf("gfmd %s benchmark: H = 0.8, lambda_s = 4a, lambda_r = n a/8, g = 1, E* = 1, sigma0 = %g, "
            "%d thread(s), FFTW_MEASURE, default tol %.0e, solver %s\n", gfmd_version(), sigma0,
-           threads, GFMD_DEFAULT_TOL, solver_names[solver]);
+           threads, GFMD_DEFAULT_TOL, solver_name(solver));
     if (layer == GFMD_GREEN_LAYER_BONDED)
         printf("layers (W > 0) bonded to a rigid base, nu = %g, w = 4 W a\n", bonded_nu);
     else
@@ -528,7 +523,7 @@ int main(int argc, char **argv) {
             if (alt && (g.active == GFMD_SOLVER_CG || g.active == GFMD_SOLVER_FIRE)) {
                 const gfmd_run o = timed_relax(s, g.active == GFMD_SOLVER_CG ? GFMD_SOLVER_FIRE : GFMD_SOLVER_CG, sigma0,
                                                area_conv);
-                snprintf(other, sizeof other, "%s %.3g", solver_names[o.active], o.seconds_acc);
+                snprintf(other, sizeof other, "%s %.3g", solver_name(o.active), o.seconds_acc);
             }
             double *h = NULL;
             cg_result r = {0, 0, 0, 0, 0, 0, -1, -1};
@@ -554,7 +549,7 @@ int main(int argc, char **argv) {
                 snprintf(speed, sizeof speed, ">%.0fx", r.seconds / t_acc);
             }
             printf("%5d %5.2g %6s | %6lld %8.3f %9.2e %9.2e %6.2f | %8.5f | %6lld %8.3f | %8s | %7s %8s | %8s | %7.1f %6.1f\n",
-                   n, W, solver_names[g.active], (long long)steps, t_gfmd, t_gfmd / (double)steps, t_fft, t_gfmd / (double)steps / t_fft,
+                   n, W, solver_name(g.active), (long long)steps, t_gfmd, t_gfmd / (double)steps, t_fft, t_gfmd / (double)steps / t_fft,
                    area_conv, (long long)steps_acc, t_acc, other, cg_its, cg_s, speed, peak_mb,
                    peak_mb * 1048576.0 / ((double)n * (double)n));
             fflush(stdout);
