@@ -199,25 +199,27 @@ static const char *solver_name(int32_t solver) {
     return solver >= 0 && solver < (int32_t)(sizeof names / sizeof names[0]) ? names[solver] : "?";
 }
 
-/* --loads: FIRE, mass-weighted FIRE and CG from flat to the default tolerance at each load, with
- * the default's choice (from the same flat start) and f(q_min w), the long-wave softness of the
- * layer against the half-space (1 for the half-space, 6/(q_min w)^3 for a thin plate). */
+/* --loads: FIRE, mass-weighted FIRE, the approach then FIRE and CG from flat to the default
+ * tolerance at each load, with the default's choice (from the same flat start) and f(q_min w), the
+ * long-wave softness of the layer against the half-space (1 for the half-space, 6/(q_min w)^3 for
+ * a thin plate). */
 static int loads_table(const double *sizes, int nsizes, const double *widths, int nwidths, const double *loads,
                        int nloads) {
-    const int32_t solvers[3] = {GFMD_SOLVER_FIRE, GFMD_SOLVER_FIRE_MASS, GFMD_SOLVER_CG};
-    printf("gfmd %s: FIRE, mass-weighted FIRE and CG from flat, layers on a fluid foundation (w = 4 W a), H = 0.8, "
-           "lambda_s = 4a, lambda_r = n a/8, seed 2016, one thread, default tolerance\n", gfmd_version());
-    printf("%5s %6s %9s %8s | %8s %8s | %7s %8s | %7s %8s | %7s %8s | %6s\n", "n", "W", "f(qmin w)", "sigma0", "A/A0",
-           "Persson", "FIRE", "s", "mass", "s", "CG its", "s", "auto");
+    const int32_t solvers[4] = {GFMD_SOLVER_FIRE, GFMD_SOLVER_FIRE_MASS, GFMD_SOLVER_MASS_FIRE, GFMD_SOLVER_CG};
+    printf("gfmd %s: FIRE, mass-weighted FIRE, the approach then FIRE and CG from flat, layers on a fluid foundation "
+           "(w = 4 W a), H = 0.8, lambda_s = 4a, lambda_r = n a/8, seed 2016, one thread, default tolerance\n",
+           gfmd_version());
+    printf("%5s %6s %9s %8s | %8s %8s | %7s %8s | %7s %8s | %7s %8s | %7s %8s | %9s\n", "n", "W", "f(qmin w)", "sigma0",
+           "A/A0", "Persson", "FIRE", "s", "mass", "s", "m+FIRE", "s", "CG its", "s", "auto");
     for (int a = 0; a < nsizes; ++a)
         for (int b = 0; b < nwidths; ++b)
             for (int c = 0; c < nloads; ++c) {
                 const int n = (int)sizes[a];
-                double secs[3], area = 0.0, persson = 0.0, f = 1.0;
-                int64_t steps[3];
+                double secs[4], area = 0.0, persson = 0.0, f = 1.0;
+                int64_t steps[4];
                 int32_t choice = -1;
                 gfmd_green_factor(GFMD_GREEN_LAYER_FLUID, 2.0 * 3.141592653589793 / n * 4.0 * widths[b], 0.0, &f);
-                for (int k = 0; k < 3; ++k) {
+                for (int k = 0; k < 4; ++k) {
                     gfmd_sim *s = bench_body(n, widths[b], loads[c], solvers[k]);
                     const double t0 = now();
                     int32_t st = gfmd_relax(s, 0.0, 10000000, &steps[k]);
@@ -233,9 +235,10 @@ static int loads_table(const double *sizes, int nsizes, const double *widths, in
                     }
                     gfmd_sim_destroy(&s);
                 }
-                printf("%5d %6g %9.3g %8g | %8.3f %8.3f | %7lld %8.3f | %7lld %8.3f | %7lld %8.3f | %6s\n", n, widths[b],
-                       widths[b] > 0 ? f : 1.0, loads[c], area, persson, (long long)steps[0], secs[0], (long long)steps[1],
-                       secs[1], (long long)steps[2], secs[2], solver_name(choice));
+                printf("%5d %6g %9.3g %8g | %8.3f %8.3f | %7lld %8.3f | %7lld %8.3f | %7lld %8.3f | %7lld %8.3f | %9s\n", n,
+                       widths[b], widths[b] > 0 ? f : 1.0, loads[c], area, persson, (long long)steps[0], secs[0],
+                       (long long)steps[1], secs[1], (long long)steps[2], secs[2], (long long)steps[3], secs[3],
+                       solver_name(choice));
                 fflush(stdout);
             }
     return 0;

@@ -230,9 +230,10 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * Poisson's ratio, a half-space up to about 240^2 -- and on a layer on a fluid foundation where
  * Persson's A/A0 at the load is >= 0.3 and the body starts (nearly) flat, touching at most
  * 2 sqrt(nx ny) points; otherwise, with or without adhesion, GFMD_SOLVER_MASS_FIRE on a layer on
- * a fluid foundation whose longest wave is at least 5000 times softer than a half-space's,
- * f(q_min w) >= 5000 (a thin sheet: W = w/lambda_s <= 1 at 256^2 with lambda_s = 4a, W <= 4 at
- * 2048^2); GFMD_SOLVER_FIRE otherwise; re-chosen whenever the body, the adhesion or
+ * a fluid foundation whose longest wave is at least 2e4 times softer than a half-space's,
+ * f(q_min w) >= 2e4 (a thin sheet: W = w/lambda_s <= 0.5 at 256^2 with lambda_s = 4a, W <= 4 at
+ * 2048^2), at a load where Persson's A/A0 < 0.1; GFMD_SOLVER_FIRE otherwise; re-chosen whenever
+ * the body, the adhesion or
  * the load control changes; the rule and its measurements are in docs/performance.md;
  * gfmd_get_solver() tells the choice),
  * GFMD_SOLVER_CG (constrained conjugate gradients: under pressure control on a half-space or a

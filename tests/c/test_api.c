@@ -262,14 +262,28 @@ static void automatic_choice(void **state) {
     /* a bonded coating, w = 8: S = 15, whatever the grid up to 2600^2 */
     assert_int_equal(chosen(512, GFMD_GREEN_LAYER_BONDED, 8.0, 0.05, 0.0, 0), GFMD_SOLVER_CG);
     /* a thin sheet on a fluid foundation (w = 1, n = 128: f(q_min w) = 5e4): CG once Persson's
-     * A/A0 >= 0.3, at low load the mass-weighted approach then FIRE, with adhesion too */
+     * A/A0 >= 0.3; at low load (Persson's A/A0 < 0.1) the mass-weighted approach then FIRE, with
+     * adhesion too; FIRE between */
+    double area = 0.0;
     assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.05, 0.0, 0), GFMD_SOLVER_CG);
     assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.002, 0.0, 0), GFMD_SOLVER_MASS_FIRE);
-    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.05, 1e-3, 0), GFMD_SOLVER_MASS_FIRE);
-    /* the approach's threshold f(q_min w) >= 5000 at 256^2: w = 4 (W = 1, f = 6.4e3) takes it,
-     * w = 8 (W = 2, f = 795) and a thick layer w = 64 (f = 1.1) keep FIRE */
-    assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 4.0, 0.002, 0.0, 0), GFMD_SOLVER_MASS_FIRE);
-    assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 8.0, 0.002, 0.0, 0), GFMD_SOLVER_FIRE);
+    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.002, 1e-3, 0), GFMD_SOLVER_MASS_FIRE);
+    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.05, 1e-3, 0), GFMD_SOLVER_FIRE);
+    /* the loads on both sides of Persson's A/A0 = 0.1, adhesive (CG out of the way) */
+    gfmd_sim *p = ts_create(128, 128, 128.0, 128.0);
+    TS_OK(p, gfmd_generate_selfaffine(p, 0.8, 16.0, 4.0, 1.0, 1, GFMD_DIST_UNIFORM));
+    TS_OK(p, gfmd_set_green(p, GFMD_GREEN_LAYER_FLUID, 1.0));
+    TS_OK(p, gfmd_persson_contact_area(p, 0.008, &area));
+    assert_true(area < 0.1);
+    TS_OK(p, gfmd_persson_contact_area(p, 0.012, &area));
+    assert_true(area > 0.1);
+    gfmd_sim_destroy(&p);
+    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.008, 1e-3, 0), GFMD_SOLVER_MASS_FIRE);
+    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.012, 1e-3, 0), GFMD_SOLVER_FIRE);
+    /* the softness threshold f(q_min w) >= 2e4 at 256^2: w = 2 (W = 0.5, f = 5.1e4) takes the
+     * approach, w = 4 (W = 1, f = 6.4e3) and a thick layer w = 64 (f = 1.1) keep FIRE */
+    assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 2.0, 0.002, 0.0, 0), GFMD_SOLVER_MASS_FIRE);
+    assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 4.0, 0.002, 0.0, 0), GFMD_SOLVER_FIRE);
     assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 64.0, 0.002, 1e-3, 0), GFMD_SOLVER_FIRE);
     /* adhesion elsewhere, or displacement control (mass weighting refuses it): FIRE */
     assert_int_equal(chosen(128, GFMD_GREEN_HALFSPACE, 0.0, 0.05, 1e-3, 0), GFMD_SOLVER_FIRE);
