@@ -385,7 +385,7 @@ static int big_point(const double *sizes, int nsizes, double sigma0, int threads
             gfmd_get_contact_area(s, &area);
             printf("big point: %d x %d, W = 1 on a fluid foundation, sigma0 = %g, %d threads, solver %s, %s: A/A0 = %.4f, "
                    "%lld steps (+%lld on coarser grids), relax %.1f s (plan + create %.1f s)\n",
-                   n, n, sigma0, threads, active == GFMD_SOLVER_CG ? "CG" : active == GFMD_SOLVER_FIRE ? "FIRE" : "other",
+                   n, n, sigma0, threads, solver_name(active),
                    levels == 1 ? "from flat" : "multilevel start (3 levels)", area, (long long)steps, (long long)coarse,
                    t_relax, t_create);
             fflush(stdout);
