@@ -223,10 +223,11 @@ constexpr const char *kCgNotAdhesive =
 constexpr const char *kNoMassWeighting =
     "mass-weighted FIRE (GFMD_SOLVER_FIRE_MASS, GFMD_SOLVER_MASS_FIRE) does not support displacement control; "
     "choose GFMD_SOLVER_FIRE, GFMD_SOLVER_VERLET or GFMD_SOLVER_AUTO";
+// The solvers that weigh the modes by their stiffness (both refuse displacement control).
+constexpr bool mass_weighted(int32_t solver) { return solver == GFMD_SOLVER_FIRE_MASS || solver == GFMD_SOLVER_MASS_FIRE; }
 
 void Simulation::set_mean_displacement(double d) {
-    if (params_.solver == GFMD_SOLVER_FIRE_MASS || params_.solver == GFMD_SOLVER_MASS_FIRE)
-        fail(GFMD_ERR_STATE, kNoMassWeighting);
+    if (mass_weighted(params_.solver)) fail(GFMD_ERR_STATE, kNoMassWeighting);
     check_mean_displacement(d, fields_.h.data());
     const Params old = params_;
     undo_.save(fields_);
@@ -306,8 +307,9 @@ constexpr double kAutoCgFluidArea = 0.3;
 // A/A0 < 0.1: the approach costs 100 steps of two FFT pairs, which pays only where FIRE needs
 // many steps.  Measured from flat (gfmd_bench --loads 0.002,0.01,0.05 --sizes 256,512 --widths
 // 0.25,1,4; --first-load at 512^2 and 2048^2; docs/performance.md): where the rule takes it,
-// 0.08-0.98x FIRE's time (12.7x faster on the adhesive W = 0.0625 sheet at 2048^2); the rows
-// it leaves to FIRE were up to 1.5x slower with it (A/A0 ~ 0.1-0.2, or f = 6.4e3 at 256^2).
+// 0.08-0.88x FIRE's time (12.7x faster on the adhesive W = 0.0625 sheet at 2048^2); of the rows
+// it leaves to FIRE, 8 of 12 were slower with it (up to 1.45x: A/A0 ~ 0.1-0.2, or f = 6.4e3 at
+// 256^2), 4 faster (at most 1.35x).
 constexpr double kAutoApproachSoftness = 2e4;
 constexpr double kAutoApproachArea = 0.1;
 
@@ -339,7 +341,7 @@ void Simulation::follow_auto_choice() {
 }
 
 void Simulation::set_solver(int32_t solver) {
-    if ((solver == GFMD_SOLVER_FIRE_MASS || solver == GFMD_SOLVER_MASS_FIRE) && params_.control == kDisplacementControl)
+    if (mass_weighted(solver) && params_.control == kDisplacementControl)
         fail(GFMD_ERR_STATE, kNoMassWeighting);
     if (solver == GFMD_SOLVER_CG && params_.gamma0 > 0.0) fail(GFMD_ERR_STATE, kCgNotAdhesive);
     const int32_t kind = resolve_solver(solver);
