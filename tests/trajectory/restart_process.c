@@ -7,7 +7,10 @@
  * The ctest (resume.cmake) runs both and compares the two files byte for byte: the promise that a
  * checkpoint resumes bit for bit with GFMD_PLANNER_ESTIMATE, and that exported wisdom imports in a
  * fresh process.  The library's default solver on this small half-space is CG (asserted below), so
- * its contact pressure, grid-sized state in the file, is what the resumed run continues from. */
+ * its contact pressure, grid-sized state in the file, is what the resumed run continues from.
+ * Then the same for an adhesive thin sheet at a low load, where the default is the mass-weighted
+ * approach then FIRE (asserted): saved inside the approach (60 of its 100 steps), resumed past its
+ * switch to FIRE (<dir>/sheet.gfmd, sheet_straight.bin, sheet_resumed.bin). */
 #include <gfmd.h>
 #include <stdio.h>
 #include <string.h>
@@ -32,13 +35,40 @@ static int write_z(gfmd_sim *s, const char *dir, const char *name) {
     return good;
 }
 
-static int is_cg(const gfmd_sim *s) {
+static int solver_is(const gfmd_sim *s, int32_t expected) {
     int32_t solver = -1;
-    if (gfmd_get_solver(s, &solver) != GFMD_OK || solver != GFMD_SOLVER_CG) {
-        fprintf(stderr, "restart_process: the default solver is %d, not CG\n", (int)solver);
+    if (gfmd_get_solver(s, &solver) != GFMD_OK || solver != expected) {
+        fprintf(stderr, "restart_process: the default solver is %d, not %d\n", (int)solver, (int)expected);
         return 0;
     }
     return 1;
+}
+
+static int is_cg(const gfmd_sim *s) { return solver_is(s, GFMD_SOLVER_CG); }
+
+/* The thin sheet: w = 0.25 on a fluid foundation (f(q_min w) = 2e5), adhesive, Persson's A/A0 0.05. */
+static int sheet(const char *dir, int resume) {
+    char path[1024];
+    snprintf(path, sizeof path, "%s/sheet.gfmd", dir);
+    gfmd_sim *s = NULL;
+    int good;
+    if (!resume) {
+        good = ok(NULL, gfmd_sim_create_ex(NX, NY, NX, NY, 1, GFMD_PLANNER_ESTIMATE, &s), "create sheet") &&
+               ok(s, gfmd_generate_selfaffine(s, 0.8, 16.0, 4.0, 0.1, 9, GFMD_DIST_UNIFORM), "sheet surface") &&
+               ok(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 0.25), "sheet body") &&
+               ok(s, gfmd_set_adhesion(s, 1e-4, 0.5), "sheet adhesion") &&
+               ok(s, gfmd_set_pressure(s, 1e-5), "sheet pressure") && solver_is(s, GFMD_SOLVER_MASS_FIRE) &&
+               ok(s, gfmd_step(s, 60), "sheet steps") && ok(s, gfmd_sim_save(s, path), "save sheet") &&
+               ok(s, gfmd_step(s, 80), "sheet steps") && write_z(s, dir, "sheet_straight.bin");
+    } else {
+        char msg[256] = "";
+        const int32_t st = gfmd_sim_load(path, &s, msg, sizeof msg);
+        if (st != GFMD_OK) fprintf(stderr, "restart_process: load sheet: %s\n", msg);
+        good = st == GFMD_OK && solver_is(s, GFMD_SOLVER_MASS_FIRE) && ok(s, gfmd_step(s, 80), "sheet steps") &&
+               write_z(s, dir, "sheet_resumed.bin");
+    }
+    gfmd_sim_destroy(&s);
+    return good;
 }
 
 int main(int argc, char **argv) {
@@ -56,7 +86,7 @@ int main(int argc, char **argv) {
                    ok(s, gfmd_sim_save(s, ckpt), "save") && ok(s, gfmd_export_wisdom(wisdom), "export wisdom") &&
                    ok(s, gfmd_step(s, 50), "steps") && write_z(s, dir, "z_straight.bin");
         gfmd_sim_destroy(&s);
-        return good ? 0 : 1;
+        return good && sheet(dir, 0) ? 0 : 1;
     }
     if (!strcmp(argv[1], "resume")) {
         char msg[256] = "";
@@ -65,7 +95,7 @@ int main(int argc, char **argv) {
         if (st != GFMD_OK) fprintf(stderr, "restart_process: load: %s\n", msg);
         good = good && st == GFMD_OK && is_cg(s) && ok(s, gfmd_step(s, 50), "steps") && write_z(s, dir, "z_resumed.bin");
         gfmd_sim_destroy(&s);
-        return good ? 0 : 1;
+        return good && sheet(dir, 1) ? 0 : 1;
     }
     return 2;
 }
