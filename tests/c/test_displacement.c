@@ -171,8 +171,13 @@ static void constraint_errors_and_checkpoint(void **state) {
     TS_OK(s, gfmd_set_solver(s, GFMD_SOLVER_FIRE));
     TS_OK(s, gfmd_set_mean_displacement(s, hm + 0.4));
     assert_int_equal(gfmd_set_solver(s, GFMD_SOLVER_FIRE_MASS), GFMD_ERR_STATE);
-    /* so does the mass-weighted approach then FIRE, in both orders */
+    /* so does the mass-weighted approach then FIRE, in both orders, and changes nothing */
+    const double held = mean_z(s);
     assert_int_equal(gfmd_set_solver(s, GFMD_SOLVER_MASS_FIRE), GFMD_ERR_STATE);
+    int32_t still = -1;
+    TS_OK(s, gfmd_get_solver(s, &still));
+    assert_int_equal(still, GFMD_SOLVER_FIRE);
+    assert_true(mean_z(s) == held);
     TS_OK(s, gfmd_set_pressure(s, 0.0));
     TS_OK(s, gfmd_set_solver(s, GFMD_SOLVER_MASS_FIRE));
     assert_int_equal(gfmd_set_mean_displacement(s, hm + 0.4), GFMD_ERR_STATE);
