@@ -45,7 +45,9 @@ program paper_fig3
   end if
 
   l = real(n, dp)
-  call surface%create(n, n, l, l)
+  ! FFTW_ESTIMATE: the same plans in every run whatever else the machine does, so the C study
+  ! with --planner estimate makes the same library calls on the same plans (compare_twin.cmake)
+  call surface%create(n, n, l, l, planner=GFMD_PLANNER_ESTIMATE)
   call surface%set_threads(1)
   call surface%generate_selfaffine(hurst, bandwidth * lambda_s, lambda_s, gradient, seed, GFMD_DIST_UNIFORM)
   allocate (h(n, n))
