@@ -227,12 +227,13 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * Method used by gfmd_step() and gfmd_relax(): GFMD_SOLVER_AUTO (the default: for a non-adhesive
  * body under pressure control GFMD_SOLVER_CG on a half-space or bonded layer whose long waves are
  * not too soft, S sqrt(nx ny) <= 4e4 with S = k_halfspace(q_max)/k_min -- a bonded coating of any
- * Poisson's ratio, a half-space up to about 240^2 -- and on a layer on a fluid foundation where
+ * Poisson's ratio, a half-space up to about 240^2 -- and on a layer on a fluid foundation whose
+ * longest wave is at least 2e3 times softer than a half-space's, f(q_min w) >= 2e3 (a thin sheet
+ * or coating: W = w/lambda_s <= 1 at 256^2 with lambda_s = 4a, W <= 10 at 2048^2), or where
  * Persson's A/A0 at the load is >= 0.3 and the body starts (nearly) flat, touching at most
- * 2 sqrt(nx ny) points; otherwise, with or without adhesion, GFMD_SOLVER_MASS_FIRE on a layer on
- * a fluid foundation whose longest wave is at least 2e4 times softer than a half-space's,
- * f(q_min w) >= 2e4 (a thin sheet: W = w/lambda_s <= 0.5 at 256^2 with lambda_s = 4a, W <= 4 at
- * 2048^2), at a load where Persson's A/A0 < 0.1; GFMD_SOLVER_FIRE otherwise; re-chosen whenever
+ * 2 sqrt(nx ny) points; with adhesion GFMD_SOLVER_MASS_FIRE on a layer on a fluid foundation
+ * with f(q_min w) >= 2e4 (W <= 0.5 at 256^2, W <= 4 at 2048^2) at a load where Persson's
+ * A/A0 < 0.1; GFMD_SOLVER_FIRE otherwise; re-chosen whenever
  * the body, the adhesion or
  * the load control changes; the rule and its measurements are in docs/performance.md;
  * gfmd_get_solver() tells the choice),
@@ -241,9 +242,10 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * and the convergence test (one pair more) every third iteration since the solver's restart, so
  * gfmd_relax() stops at most two iterations after the first that meets tol, and a call that
  * reaches max_steps between two tests returns GFMD_ERR_NOT_CONVERGED even if the residual
- * already meets tol (the next call stops at the next test); on a layer on a fluid foundation and
- * under displacement control projected CG on the surface, about 1.5 pairs, tested every
- * iteration; 16 bytes per point more, GFMD_ERR_NOMEM and nothing changed if they
+ * already meets tol (the next call stops at the next test); on a layer on a fluid foundation
+ * under pressure control projected CG on the surface preconditioned by the inverse mode
+ * stiffness (floored at the contact spacing's), about 2.5 pairs, and under displacement control
+ * without the preconditioner, about 1.5 pairs, both tested every iteration; 16 bytes per point more, GFMD_ERR_NOMEM and nothing changed if they
  * cannot be had; for the non-adhesive problem only -- GFMD_ERR_STATE with adhesion, and
  * gfmd_set_adhesion() with gamma0 > 0 refuses while it is chosen; one "step" of
  * gfmd_step()/gfmd_relax() is one iteration; the same convergence test as the others),

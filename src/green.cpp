@@ -158,4 +158,19 @@ double longest_wave_softness(const FftGrid &grid, const Body &body, double e_sta
     return std::isfinite(q) ? 0.5 * e_star * q / body.k_min : 1.0;
 }
 
+double stiffest_mode_within(const FftGrid &grid, const Body &body, double q2) {
+    const int64_t nxh = grid.nxh();
+    const double *stiff = body.stiffness.data();
+    double kc = 0.0;
+    for (int64_t r = 0; r < grid.local_mode_rows(); ++r) {
+        const double qy = grid.qy(grid.first_mode_row() + r);
+        for (int64_t kx = 0; kx < nxh; ++kx) {
+            const double qx = grid.qx(kx);
+            if (qx * qx + qy * qy <= q2) kc = std::max(kc, stiff[static_cast<std::size_t>(r * nxh + kx)]);
+        }
+    }
+    grid.reduce_max(&kc, 1);
+    return kc;
+}
+
 }  // namespace gfmd

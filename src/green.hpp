@@ -31,6 +31,10 @@ double long_wave_softness(const FftGrid &grid, const Body &body, double e_star);
 // vector, k_hs(q_min) / k_min: f(q_min w) on a layer, 1 on a half-space.
 double longest_wave_softness(const FftGrid &grid, const Body &body, double e_star);
 
+// The largest mode stiffness k(q) over the wave vectors |q|^2 <= q2 (over all ranks): the floor
+// of the solvers that weigh the modes by their stiffness, at the contact spacing.
+double stiffest_mode_within(const FftGrid &grid, const Body &body, double q2);
+
 // 1/f(t) for a kind of body (GFMD_GREEN_*), t = q w > 0, nu used by the bonded layer only.
 // Finite and >= 0 for every finite t > 0; the mode stiffness is q E* / 2 * inverse_factor.
 double green_inverse_factor(int32_t kind, double t, double nu);

@@ -293,23 +293,28 @@ void Simulation::set_damping(double eta) {
 // A/A0 ~ 0.1, 128^2-1024^2), CG was faster where S sqrt(N) < 4e4 and as fast or slower beyond
 // (ties: the 256^2 half-space, S sqrt(N) = 4.6e4; a bonded layer w = 32 at 1024^2, 5.9e4).
 constexpr double kAutoCgBound = 4e4;
-// On a layer on a fluid foundation CG iterates on the surface; from a flat start it needs fewer
-// force evaluations than FIRE once much of the surface is in contact: measured (W = 0.0625 ... 4,
-// 256^2-1024^2; gfmd_bench --loads) it was faster wherever Persson's A/A0 at the load was >= 0.3
-// (0.02-0.78x FIRE's time) and mostly slower at 0.12 and below (up to 2.2x).  Continuing from
-// the equilibrium of a nearby load (a sweep) FIRE was faster (the 256^2 study, W = 0.0625, A/A0
-// 0.27 -> 0.39: FIRE 312 steps, CG 678 iterations): CG only from a start that touches at most
-// 2 sqrt(N) points.
+// On a layer on a fluid foundation CG iterates on the surface, preconditioned by the inverse
+// stiffness (cg.cpp).  Without adhesion, from flat (gfmd_bench --loads 0.002,0.01,0.05, W = 0.0625
+// ... 10, one thread), it took 0.25-0.54x FIRE's time at 256^2 and 512^2 wherever the longest wave
+// is much softer than a half-space's, f(q_min w) >= 2e3 (and was faster than mass-weighted FIRE
+// and the approach then FIRE there), 0.33-0.50x at 1024^2 (W = 1, 4), 0.30x, 0.48x and 1.06x at
+// 2048^2 (W = 10, f = 3.3e3, the last at sigma0 = 0.05); in the study's sweeps, continuing from
+// the last load, 0.43-0.85x FIRE's time (256^2: W = 1, 0.25, 0.0625; 1024^2: W = 4, 1).  Below the
+// threshold it also won from flat (W = 4 at 256^2 and 512^2: 0.17-0.90x) but not in every sweep
+// or load (W = 4 at 256^2 in the study: as fast; W = 10 at 1024^2, f = 411, sigma0 = 0.05: 1.24x
+// slower): there CG is kept for a start that touches at most 2 sqrt(N) points where Persson's
+// A/A0 >= 0.3 (0.02-0.78x FIRE's time, measured before the preconditioner).
+constexpr double kAutoCgFluidSoftness = 2e3;
 constexpr double kAutoCgFluidArea = 0.3;
-// Elsewhere on a layer on a fluid foundation, at most 100 mass-weighted FIRE steps after each
-// restart, then FIRE (GFMD_SOLVER_MASS_FIRE), where the longest wave is much softer than on a
-// half-space, f(q_min w) = k_halfspace(q_min)/k(q_min) >= 2e4, and the load is low, Persson's
-// A/A0 < 0.1: the approach costs 100 steps of two FFT pairs, which pays only where FIRE needs
-// many steps.  Measured from flat (gfmd_bench --loads 0.002,0.01,0.05 --sizes 256,512 --widths
-// 0.25,1,4; --first-load at 512^2 and 2048^2; docs/performance.md): where the rule takes it,
-// 0.08-0.88x FIRE's time (12.7x faster on the adhesive W = 0.0625 sheet at 2048^2); of the rows
-// it leaves to FIRE, 8 of 12 were slower with it (up to 1.45x: A/A0 ~ 0.1-0.2, or f = 6.4e3 at
-// 256^2), 4 faster (at most 1.35x).
+// With adhesion (CG minimizes the quadratic problem only), at most 100 mass-weighted FIRE steps
+// after each restart, then FIRE (GFMD_SOLVER_MASS_FIRE), where the longest wave is much softer
+// than on a half-space, f(q_min w) = k_halfspace(q_min)/k(q_min) >= 2e4, and the load is low,
+// Persson's A/A0 < 0.1: the approach costs 100 steps of two FFT pairs, which pays only where
+// FIRE needs many steps.  Measured from flat (gfmd_bench --loads 0.002,0.01,0.05 --sizes 256,512
+// --widths 0.25,1,4; --first-load at 512^2 and 2048^2; docs/performance.md): where the rule takes
+// it, 0.08-0.88x FIRE's time (12.7x faster on the adhesive W = 0.0625 sheet at 2048^2); of the
+// rows it leaves to FIRE, 8 of 12 were slower with it (up to 1.45x: A/A0 ~ 0.1-0.2, or f = 6.4e3
+// at 256^2), 4 faster (at most 1.35x).
 constexpr double kAutoApproachSoftness = 2e4;
 constexpr double kAutoApproachArea = 0.1;
 
@@ -320,12 +325,14 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
     const bool quadratic = !(params_.gamma0 > 0.0);
     if (params_.kind == GFMD_GREEN_LAYER_FLUID) {
         const double area = gfmd::persson_contact_area(gfmd::persson_variance(grid_, body_, fields_), params_.sigma0);
+        const double softness = longest_wave_softness(grid_, body_, params_.e_star);
         if (quadratic) {
+            if (softness >= kAutoCgFluidSoftness) return GFMD_SOLVER_CG;
             const bool fresh =
                 static_cast<double>(forces_.contacts) <= 2.0 * std::sqrt(static_cast<double>(grid_.real_size()));
             if (area >= kAutoCgFluidArea && fresh) return GFMD_SOLVER_CG;
         }
-        const bool soft = longest_wave_softness(grid_, body_, params_.e_star) >= kAutoApproachSoftness;
+        const bool soft = softness >= kAutoApproachSoftness;
         return (soft && area < kAutoApproachArea) ? GFMD_SOLVER_MASS_FIRE : GFMD_SOLVER_FIRE;
     }
     if (!quadratic) return GFMD_SOLVER_FIRE;

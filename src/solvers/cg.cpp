@@ -14,6 +14,7 @@ void SurfaceCg::set_state(const double *s) {
     if (!(s[0] >= 0.0) || !std::isfinite(s[0]) || (s[1] != 0.0 && s[1] != 1.0)) fail(GFMD_ERR_FORMAT, "invalid CG state");
     prev_r2_ = s[0];
     fresh_ = s[1] != 0.0;
+    bucket_ = -1;
 }
 
 // Polonsky-Keer's iteration on the pressure under pressure control on a half-space or a bonded
@@ -24,7 +25,7 @@ void SurfaceCg::set_state(const double *s) {
 // displacement control.
 void ConjugateGradient::advance(StepContext &c) {
     if (uses_surface(c.params))
-        surface_.advance(c);
+        surface_.advance(c, preconditioned(c.params) ? &pressure_.scratch() : nullptr);
     else
         pressure_.advance(c);
 }
@@ -53,18 +54,20 @@ void ConjugateGradient::set_grid_state(std::vector<RealBuffer> &&fields) {
 // Projected conjugate gradients for the bound-constrained quadratic problem (the primal form of
 // Polonsky & Keer's method, cf. Bugnicourt et al., Tribol. Lett. 66, 29 (2018)):
 //   r = the projected force (the residual of evaluate_forces: zero where the wall holds z),
-//   t = r + beta t_old on the points free to move (beta = |r|^2/|r_old|^2, Fletcher-Reeves),
+//   s = r, or preconditioned s = M^-1 r on the free points (below),
+//   t = s + beta t_old on the points free to move (beta = r.s/(r.s)_old, Fletcher-Reeves),
 //   alpha = r.t / t.K.t, the exact minimizer of the quadratic energy along t,
 //   z <- max(h, z + alpha t).
 // The direction restarts (beta = 0) when the projection stopped a point at the wall (the free set
 // shrank, the conjugacy is lost) and whenever t would not descend.  One forward transform (for
-// t.K.t) per iteration beside the force evaluation's pair.
-void SurfaceCg::advance(StepContext &c) {
+// t.K.t) per iteration beside the force evaluation's pair; preconditioned, one pair more.
+void SurfaceCg::advance(StepContext &c, RealBuffer *scratch) {
     const FftGrid &grid = c.grid;
     const ForceState &fs = c.forces;
     double *__restrict z = c.fields.z.data(), *__restrict t = c.fields.v.data();
     const double *__restrict h = c.fields.h.data(), *__restrict f = c.fields.f.data();
-    const double r2 = fs.f_norm2;
+    const double *__restrict s = scratch ? scratch->data() : f;
+    const double r2 = scratch ? precondition(c, scratch->data()) : fs.f_norm2;
     double beta = (fresh_ || !(prev_r2_ > 0.0)) ? 0.0 : r2 / prev_r2_;
     const auto direction = [&](double b) {
         return grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
@@ -72,7 +75,7 @@ void SurfaceCg::advance(StepContext &c) {
 #pragma omp simd reduction(+ : rt)
             for (int64_t i = i0; i < i1; ++i) {
                 const bool held = z[i] <= h[i] && f[i] <= 0.0;
-                const double ti = held ? 0.0 : f[i] + b * t[i];
+                const double ti = held ? 0.0 : s[i] + b * t[i];
                 t[i] = ti;
                 rt += f[i] * ti;
             }
@@ -81,8 +84,8 @@ void SurfaceCg::advance(StepContext &c) {
     };
     double rt = direction(beta);
     if (!(rt > 0.0) && beta != 0.0) {
-        // t_old dominated and pointed uphill: start again along the force (t = r exactly, since t
-        // was r + beta t_old, recompute it from scratch).
+        // t_old dominated and pointed uphill: start again along s (t = s exactly, since t
+        // was s + beta t_old, recompute it from scratch).
         beta = 0.0;
         rt = direction(0.0);
     }
@@ -124,6 +127,68 @@ void SurfaceCg::advance(StepContext &c) {
         acc[0] += stopped;
     })[0];
     fresh_ = hits > 0.0;
+}
+
+namespace {
+// The preconditioner's floor k_c: the stiffness at the wave vector q_c = min(0.5 q_spacing, 1/w),
+// q_spacing that of the contact points' mean spacing.  Modes longer than the spacing are pinned
+// by the contacts (as mass-weighted FIRE's mass floor, fire_mass.cpp); on a thick layer the
+// floor stays at or below the wave vector 1/w where the layer turns from half-space to plate.
+// Measured (gfmd_bench --loads 0.002,0.01,0.05, W = 0.0625 ... 10, 256^2-1024^2, from flat):
+// 0.5 q_spacing was best of 0.125 ... 2 (0.125 took up to 20x the iterations, 1 up to 1.8x); the
+// cap at 1/w cut a W = 4 layer's iterations 2-4x at 512^2 (212 -> 72, 233 -> 59) and 1024^2
+// (477 -> 148) and changed the thin sheets' (W <= 1) by 0.68-1.10x (0.5/w and 2/w: worse).
+constexpr double kPcgSpacing = 0.5;
+constexpr double kPcgWidth = 1.0;
+}  // namespace
+
+// M^-1 = 1/max(k(q), k_c) applied to the projected force, then restricted to the free points (a
+// principal block of an SPD operator: SPD on the free set, so PCG's theory holds while the free
+// set stays).  k_c follows the contacts' count by octave b = floor(log2(contacts)), taken at the
+// octave's geometric middle sqrt(2) 2^b (at its bottom 2^b the 256^2 study's sweep of W = 0.0625
+// took 7327 iterations against 5541), a function of the state, so checkpoints resume bit for bit;
+// where it changes, Fletcher-Reeves carries on (a rare jump).
+double SurfaceCg::precondition(const StepContext &c, double *zp) {
+    const FftGrid &grid = c.grid;
+    const double *__restrict z = c.fields.z.data(), *__restrict h = c.fields.h.data(), *__restrict f = c.fields.f.data();
+    const double *stiff = c.body.stiffness.data();
+    const int64_t nxh = grid.nxh();
+    const int64_t contacts = c.forces.contacts;
+    const int bucket = (contacts > 0) ? static_cast<int>(std::floor(std::log2(static_cast<double>(contacts)))) : 0;
+    if (bucket != bucket_) {
+        const double phi = std::ldexp(std::sqrt(2.0), bucket) / static_cast<double>(grid.real_size());
+        double qc2 = kPcgSpacing * kPcgSpacing * 4.0 * kPi * phi / grid.area_per_point();
+        const double w = c.params.width;  // > 0: preconditioned only on a layer
+        qc2 = std::min(qc2, kPcgWidth * kPcgWidth / (w * w));
+        const double kc = stiffest_mode_within(grid, c.body, qc2);
+        floor_ = std::min(std::max(kc, c.body.k_min), c.body.k_max);
+        bucket_ = bucket;
+    }
+    grid.for_points([&](int64_t i0, int64_t i1) {
+#pragma omp simd
+        for (int64_t i = i0; i < i1; ++i) zp[i] = (z[i] <= h[i] && f[i] <= 0.0) ? 0.0 : f[i];
+    });
+    grid.forward(zp, c.fields.work.data());
+    std::complex<double> *work = c.fields.work.data();
+    const double inv_n = 1.0 / static_cast<double>(grid.real_size()), floor = floor_;
+    grid.for_mode_rows([&](int64_t y0, int64_t y1) {
+        for (int64_t r = y0; r < y1; ++r) {
+            std::complex<double> *row = work + r * nxh;
+            const double *krow = stiff + r * nxh;
+            for (int64_t kx = 0; kx < nxh; ++kx) row[kx] *= inv_n / std::max(krow[kx], floor);
+        }
+    });
+    grid.backward(c.fields.work.data(), zp);
+    return grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
+        double rz = 0.0;
+#pragma omp simd reduction(+ : rz)
+        for (int64_t i = i0; i < i1; ++i) {
+            const bool held = z[i] <= h[i] && f[i] <= 0.0;
+            zp[i] = held ? 0.0 : zp[i];
+            rz += held ? 0.0 : f[i] * zp[i];
+        }
+        acc[0] += rz;
+    })[0];
 }
 
 }  // namespace gfmd

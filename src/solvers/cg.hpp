@@ -12,22 +12,31 @@
 
 namespace gfmd {
 
-// Projected CG on z with an exact line search; its direction lives in the velocity field.
+// Projected CG on z with an exact line search; its direction lives in the velocity field.  Given a
+// scratch buffer, preconditioned by the inverse stiffness (cg.cpp).
 class SurfaceCg {
 public:
-    void restart() { fresh_ = true; }
-    void advance(StepContext &c);
+    void restart() {
+        fresh_ = true;
+        bucket_ = -1;  // the body may have changed: its floor is recomputed
+    }
+    void advance(StepContext &c, RealBuffer *scratch);
     std::vector<double> state() const { return {prev_r2_, fresh_ ? 1.0 : 0.0}; }
     void set_state(const double *s);  // two numbers
 
 private:
-    double prev_r2_ = 0.0;
+    // z_p = M^-1 r on the free points (0 where the wall holds z), returns r.z_p.
+    double precondition(const StepContext &c, double *zp);
+    double prev_r2_ = 0.0;  // r.r, or r.M^-1 r when preconditioned, of the last iteration
     bool fresh_ = true;
+    int bucket_ = -1;        // derived: floor(log2(contacts)) that floor_ belongs to
+    double floor_ = 0.0;
 };
 
 class ConjugateGradient final : public Solver {
 public:
-    // 16 bytes per point: the contact pressure and its displacement.
+    // 16 bytes per point: the contact pressure and its displacement (the preconditioned surface CG's
+    // scratch on a layer on a fluid foundation, where PK does not iterate).
     explicit ConjugateGradient(const FftGrid &grid) : pressure_(grid) {}
     void restart(const Dynamics &) override {
         surface_.restart();
@@ -44,6 +53,11 @@ public:
 private:
     static bool uses_surface(const Params &p) {
         return p.control == kDisplacementControl || p.kind == GFMD_GREEN_LAYER_FLUID;
+    }
+    // Preconditioned on a layer on a fluid foundation under pressure control (not with the mean
+    // held: the projection would fight the preconditioner's long waves, as it did mass-weighted FIRE's).
+    static bool preconditioned(const Params &p) {
+        return p.control == kPressureControl && p.kind == GFMD_GREEN_LAYER_FLUID;
     }
     SurfaceCg surface_;
     PolonskyKeer pressure_;

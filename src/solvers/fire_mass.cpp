@@ -29,16 +29,8 @@ void FireMass::update_mass_floor(const StepContext &c) {
     if (bucket == bucket_) return;
     const double phi = std::ldexp(1.0, bucket) / static_cast<double>(grid.real_size());
     const double qc2 = kMassSpacing * kMassSpacing * 4.0 * kPi * phi / grid.area_per_point();
+    const double kc = stiffest_mode_within(grid, c.body, qc2);
     const int64_t nxh = grid.nxh();
-    double kc = 0.0;
-    for (int64_t r = 0; r < grid.local_mode_rows(); ++r) {
-        const double qy = grid.qy(grid.first_mode_row() + r);
-        for (int64_t kx = 0; kx < nxh; ++kx) {
-            const double qx = grid.qx(kx);
-            if (qx * qx + qy * qy <= qc2) kc = std::max(kc, stiff[static_cast<std::size_t>(r * nxh + kx)]);
-        }
-    }
-    grid.reduce_max(&kc, 1);
     floor_ = std::min(std::max(kc, c.body.k_min), c.body.k_max);
     // omega^2 = k(q)/m(q) <= 1 for the elastic modes.  The adhesive law's stiffness is local: a
     // single point's acceleration per unit force is the real-space diagonal of M^-1, the mean of

@@ -30,6 +30,12 @@ public:
     std::vector<double> state() const;
     void set_state(const std::vector<double> &s);
     const RealBuffer &pressure() const { return p_; }
+    // The displacement buffer lent as scratch (to the surface CG on bodies PK does not iterate
+    // on): recomputed before PK uses it again.
+    RealBuffer &scratch() {
+        u_valid_ = false;
+        return u_;
+    }
     // Throws GFMD_ERR_FORMAT for a pressure that is not finite and >= 0.
     void set_pressure(RealBuffer &&p);
 
