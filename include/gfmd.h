@@ -227,11 +227,8 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * Method used by gfmd_step() and gfmd_relax(): GFMD_SOLVER_AUTO (the default: for a non-adhesive
  * body under pressure control GFMD_SOLVER_CG on a half-space or bonded layer whose long waves are
  * not too soft, S sqrt(nx ny) <= 4e4 with S = k_halfspace(q_max)/k_min -- a bonded coating of any
- * Poisson's ratio, a half-space up to about 240^2 -- and on a layer on a fluid foundation whose
- * longest wave is at least 2e3 times softer than a half-space's, f(q_min w) >= 2e3 (a thin sheet
- * or coating: W = w/lambda_s <= 1 at 256^2 with lambda_s = 4a, W <= 10 at 2048^2), or where
- * Persson's A/A0 at the load is >= 0.3 and the body starts (nearly) flat, touching at most
- * 2 sqrt(nx ny) points; with adhesion GFMD_SOLVER_MASS_FIRE on a layer on a fluid foundation
+ * Poisson's ratio, a half-space up to about 240^2 -- and on every layer on a fluid foundation
+ * (preconditioned there); with adhesion GFMD_SOLVER_MASS_FIRE on a layer on a fluid foundation
  * with f(q_min w) >= 2e4 (W <= 0.5 at 256^2, W <= 4 at 2048^2) at a load where Persson's
  * A/A0 < 0.1; GFMD_SOLVER_FIRE otherwise; re-chosen whenever
  * the body, the adhesion or

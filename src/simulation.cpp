@@ -294,18 +294,13 @@ void Simulation::set_damping(double eta) {
 // (ties: the 256^2 half-space, S sqrt(N) = 4.6e4; a bonded layer w = 32 at 1024^2, 5.9e4).
 constexpr double kAutoCgBound = 4e4;
 // On a layer on a fluid foundation CG iterates on the surface, preconditioned by the inverse
-// stiffness (cg.cpp).  Without adhesion, from flat (gfmd_bench --loads 0.002,0.01,0.05, W = 0.0625
-// ... 10, one thread), it took 0.25-0.54x FIRE's time at 256^2 and 512^2 wherever the longest wave
-// is much softer than a half-space's, f(q_min w) >= 2e3 (and was faster than mass-weighted FIRE
-// and the approach then FIRE there), 0.33-0.50x at 1024^2 (W = 1, 4), 0.30x, 0.48x and 1.06x at
-// 2048^2 (W = 10, f = 3.3e3, the last at sigma0 = 0.05); in the study's sweeps, continuing from
-// the last load, 0.43-0.85x FIRE's time (256^2: W = 1, 0.25, 0.0625; 1024^2: W = 4, 1).  Below the
-// threshold it also won from flat (W = 4 at 256^2 and 512^2: 0.17-0.90x) but not in every sweep
-// or load (W = 4 at 256^2 in the study: as fast; W = 10 at 1024^2, f = 411, sigma0 = 0.05: 1.24x
-// slower): there CG is kept for a start that touches at most 2 sqrt(N) points where Persson's
-// A/A0 >= 0.3 (0.02-0.78x FIRE's time, measured before the preconditioner).
-constexpr double kAutoCgFluidSoftness = 2e3;
-constexpr double kAutoCgFluidArea = 0.3;
+// stiffness (cg.cpp).  Without adhesion, from flat (gfmd_bench --loads 0.002,0.01,0.05, one
+// thread) it took 0.17-0.54x FIRE's time at 256^2 and 512^2 (W = 0.0625 ... 4) and was faster
+// than mass-weighted FIRE and the approach then FIRE there; 0.33-0.50x at 1024^2 (W = 1, 4),
+// 0.22x at 1024^2 on W = 10 but 1.24x at sigma0 = 0.05; 0.30x, 0.48x and 1.06x (sigma0 = 0.05)
+// at 2048^2 on W = 10.  In the study's sweeps, each load continuing from the last, 0.40-0.85x
+// FIRE's time on every layer (256^2: W = 100 ... 0.0625; 1024^2: W = 100, 10, 4, 1).  So CG on
+// every such body: at worst 1.24x slower than FIRE, where FIRE was at worst 5.8x slower.
 // With adhesion (CG minimizes the quadratic problem only), at most 100 mass-weighted FIRE steps
 // after each restart, then FIRE (GFMD_SOLVER_MASS_FIRE), where the longest wave is much softer
 // than on a half-space, f(q_min w) = k_halfspace(q_min)/k(q_min) >= 2e4, and the load is low,
@@ -324,15 +319,9 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
     if (params_.control != kPressureControl) return GFMD_SOLVER_FIRE;
     const bool quadratic = !(params_.gamma0 > 0.0);
     if (params_.kind == GFMD_GREEN_LAYER_FLUID) {
+        if (quadratic) return GFMD_SOLVER_CG;
         const double area = gfmd::persson_contact_area(gfmd::persson_variance(grid_, body_, fields_), params_.sigma0);
-        const double softness = longest_wave_softness(grid_, body_, params_.e_star);
-        if (quadratic) {
-            if (softness >= kAutoCgFluidSoftness) return GFMD_SOLVER_CG;
-            const bool fresh =
-                static_cast<double>(forces_.contacts) <= 2.0 * std::sqrt(static_cast<double>(grid_.real_size()));
-            if (area >= kAutoCgFluidArea && fresh) return GFMD_SOLVER_CG;
-        }
-        const bool soft = softness >= kAutoApproachSoftness;
+        const bool soft = longest_wave_softness(grid_, body_, params_.e_star) >= kAutoApproachSoftness;
         return (soft && area < kAutoApproachArea) ? GFMD_SOLVER_MASS_FIRE : GFMD_SOLVER_FIRE;
     }
     if (!quadratic) return GFMD_SOLVER_FIRE;

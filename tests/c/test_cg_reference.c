@@ -185,10 +185,10 @@ static void conjugate_gradients(void **state) {
 
 /* The preconditioned surface CG (a layer on a fluid foundation under pressure control) against
  * FIRE on the same body and load: the same equilibrium, and the preconditioner must have earned
- * its extra FFT pair: at most a third of FIRE's steps (measured 3-15x fewer from 256^2 to
- * 2048^2, docs/performance.md; without it the surface CG needed more iterations than FIRE's
- * steps on thin sheets, 1290 against 782 at 256^2, W = 0.25).  A thin sheet (W = w/lambda_s =
- * 0.25) and a thicker layer (W = 1), at low loads. */
+ * its extra FFT pair: at most a third of FIRE's steps (here 6.8x and 11x fewer, 399 against 2705
+ * and 69 against 772; 2-13x from 256^2 to 2048^2, docs/performance.md; without it 3459 against
+ * 2701 on the first case).  A thin sheet (W = w/lambda_s = 0.25) and a thicker layer (W = 1), at
+ * low loads. */
 static void preconditioned_cg_against_fire(void **state) {
     (void)state;
     const struct {

@@ -94,8 +94,8 @@ static void expect_resumed(gfmd_sim *a, int32_t solver, int64_t steps) {
 }
 
 /* GFMD_SOLVER_AUTO's choice survives a restart: it is the choice made when the load was set (CG
- * here: a fluid layer at a high Persson area), not what the loaded, relaxed state would suggest
- * (a regression: the loaded file was refused, "invalid FIRE state"). */
+ * here: a fluid layer without adhesion), not what the loaded, relaxed state would suggest (a
+ * regression: the loaded file was refused, "invalid FIRE state"). */
 static void auto_choice_survives_restart(void **state) {
     (void)state;
     gfmd_sim *a = ts_create(NX, NY, 40.0, 24.0);
