@@ -11,7 +11,22 @@ void project_mean(const FftGrid &grid, Fields &fields, double d) {
     const double n = static_cast<double>(grid.real_size());
     // mean(max(h, z + c)) >= mean(z) + c: from c = d - mean(z) the mean is at or above d, and
     // Newton's steps on the convex mean(c) approach the root from above.
-    double c = d - grid.mean(z);
+    const auto m = grid.sum_points<2>([&](int64_t i0, int64_t i1, double *acc) {
+        double sz = 0.0, sa = 0.0;
+#pragma omp simd reduction(+ : sz, sa)
+        for (int64_t i = i0; i < i1; ++i) {
+            sz += z[i];
+            sa += std::fabs(z[i]);
+        }
+        acc[0] += sz;
+        acc[1] += sa;
+    });
+    double c = d - m[0] / n;
+    // A mean below d by no more than the sum's rounding (sqrt(n) roundings of the size of |z|,
+    // with a factor 4) is d: lifting the body by such a c would lift every point the wall holds
+    // by 1e-14 off it -- no contact, a mean pressure of zero, every contact force suddenly
+    // unbalanced -- which trapped CG on a 128^2 sheet between that state and the right one.
+    if (c > 0.0 && c <= 4.0 * 2.220446049250313e-16 * std::sqrt(n) * (m[1] / n)) return;
     const double tol = 4.0 * 2.220446049250313e-16 * (std::fabs(d) + std::fabs(c) + 1.0);
     for (int it = 0; it < 100; ++it) {
         const auto s = grid.sum_points<2>([&](int64_t i0, int64_t i1, double *acc) {

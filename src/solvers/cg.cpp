@@ -82,12 +82,43 @@ void SurfaceCg::advance(StepContext &c, RealBuffer *scratch) {
             acc[0] += rt;
         })[0];
     };
+    // Under displacement control the direction must keep mean(z): t is projected onto zero mean
+    // over the points free to move (the gradient of the energy within the constraint), so that
+    // the step moves the mean only where the wall stops points (128^2 sheet, w = 1, tol 1e-11:
+    // 2630 iterations against 3026 with the projection onto mean(z) = d left to undo t's mean).
+    const bool hold_mean = c.params.control == kDisplacementControl;
+    const auto mean_free = [&] {
+        const auto m = grid.sum_points<2>([&](int64_t i0, int64_t i1, double *acc) {
+            double st = 0.0, nf = 0.0;
+#pragma omp simd reduction(+ : st, nf)
+            for (int64_t i = i0; i < i1; ++i) {
+                const bool held = z[i] <= h[i] && f[i] <= 0.0;
+                st += held ? 0.0 : t[i];
+                nf += held ? 0.0 : 1.0;
+            }
+            acc[0] += st;
+            acc[1] += nf;
+        });
+        const double mt = m[1] > 0.0 ? m[0] / m[1] : 0.0;
+        return grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
+            double rt = 0.0;
+#pragma omp simd reduction(+ : rt)
+            for (int64_t i = i0; i < i1; ++i) {
+                const bool held = z[i] <= h[i] && f[i] <= 0.0;
+                t[i] = held ? 0.0 : t[i] - mt;
+                rt += f[i] * t[i];
+            }
+            acc[0] += rt;
+        })[0];
+    };
     double rt = direction(beta);
+    if (hold_mean) rt = mean_free();
     if (!(rt > 0.0) && beta != 0.0) {
         // t_old dominated and pointed uphill: start again along s (t = s exactly, since t
         // was s + beta t_old, recompute it from scratch).
         beta = 0.0;
         rt = direction(0.0);
+        if (hold_mean) rt = mean_free();
     }
     prev_r2_ = r2;
     if (!(rt > 0.0)) {  // r = 0 everywhere the body may move: nothing to do

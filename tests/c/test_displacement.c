@@ -64,8 +64,11 @@ static double max_abs_diff(const gfmd_sim *a, const gfmd_sim *b) {
 
 static void pressure_and_displacement_control_agree(void **state) {
     (void)state;
+    const int32_t solvers[3] = {GFMD_SOLVER_VERLET, GFMD_SOLVER_FIRE, GFMD_SOLVER_CG};
     for (int body = 0; body < 3; ++body)
-        for (int32_t solver = GFMD_SOLVER_VERLET; solver <= GFMD_SOLVER_FIRE; ++solver) {
+        for (int k = 0; k < 3; ++k) {
+            const int32_t solver = solvers[k];
+            if (solver == GFMD_SOLVER_CG && body == 2) continue; /* adhesive: CG refuses it */
             const double sigma0 = 0.03;
             gfmd_sim *p = make(body, solver), *d = NULL, *back = NULL;
             TS_OK(p, gfmd_set_pressure(p, sigma0));
@@ -100,6 +103,47 @@ static void pressure_and_displacement_control_agree(void **state) {
             gfmd_sim_destroy(&d);
             gfmd_sim_destroy(&back);
         }
+}
+
+/* CG with the mean held on a thin sheet (128^2, w = 1, lambda_s = 4a: W = 0.25; sigma0 = 3e-4,
+ * A/A0 ~ 0.01), against the preconditioned CG under pressure control (a second algorithm): from
+ * a flat start at the position the pressure gave, the same pressure and surface.  Before the
+ * projection onto the mean kept the wall's points on the wall (src/constraint.cpp), a rounding
+ * lift of 1e-14 released the whole contact set now and then, and this relax never converged. */
+static void cg_on_a_thin_sheet(void **state) {
+    (void)state;
+    enum { M = 128 };
+    const double sigma0 = 3e-4, tol = 1e-10;
+    gfmd_sim *p = NULL, *d = NULL;
+    assert_int_equal(gfmd_sim_create_ex(M, M, M, M, 1, GFMD_PLANNER_ESTIMATE, &p), GFMD_OK);
+    TS_OK(p, gfmd_generate_selfaffine(p, 0.8, 16.0, 4.0, 1.0, 1, GFMD_DIST_UNIFORM));
+    TS_OK(p, gfmd_set_green(p, GFMD_GREEN_LAYER_FLUID, 1.0));
+    TS_OK(p, gfmd_set_solver(p, GFMD_SOLVER_CG));
+    TS_OK(p, gfmd_set_pressure(p, sigma0));
+    TS_OK(p, gfmd_relax(p, tol, 100000, NULL));
+    const double z_mean = mean_z(p);
+    TS_OK(p, gfmd_sim_clone(p, &d));
+    TS_OK(d, gfmd_reset(d));
+    TS_OK(d, gfmd_set_mean_displacement(d, z_mean));
+    int64_t steps = 0;
+    TS_OK(d, gfmd_relax(d, tol, 100000, &steps)); /* 1926 iterations measured */
+    static double zp[M * M], zd[M * M];
+    TS_OK(p, gfmd_get_surface(p, zp));
+    TS_OK(d, gfmd_get_surface(d, zd));
+    double dz = 0.0, ap = 0.0, ad = 0.0;
+    for (int i = 0; i < M * M; ++i) dz = fmax(dz, fabs(zp[i] - zd[i]));
+    TS_OK(p, gfmd_get_contact_area(p, &ap));
+    TS_OK(d, gfmd_get_contact_area(d, &ad));
+    print_message("thin sheet, CG: sigma0 %.6g -> %.10g in %lld iterations; A/A0 %.6f vs %.6f; max |dz| %.2e\n", sigma0,
+                  mean_p(d), (long long)steps, ap, ad, dz);
+    /* Both at 1e-10 of the pressure scale; the sheet's softest modes turn that force error into a
+     * displacement error of ~1e-10 sigma0 / k_min (k_min ~ 5e-7 E*: 6e-8 of the unit roughness),
+     * hence 1e-6 for the surfaces, as above, and the pressure to 1e-6 relative. */
+    assert_true(fabs(mean_p(d) - sigma0) <= 1e-6 * sigma0);
+    assert_true(fabs(ap - ad) <= 2.0 / (M * M));
+    assert_true(dz <= 1e-6);
+    gfmd_sim_destroy(&p);
+    gfmd_sim_destroy(&d);
 }
 
 /* Quasi-static path of positions d_k, each relaxed; sigma_k, U_k = U_el - U_ad.  Returns the work
@@ -218,6 +262,7 @@ static void constraint_errors_and_checkpoint(void **state) {
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(pressure_and_displacement_control_agree),
+        cmocka_unit_test(cg_on_a_thin_sheet),
         cmocka_unit_test(work_equals_energy_change),
         cmocka_unit_test(no_hysteresis_without_adhesion),
         cmocka_unit_test(constraint_errors_and_checkpoint),
