@@ -10,6 +10,12 @@
 
 namespace gfmd {
 
+namespace {
+// A point the wall holds: at the wall and pressed onto it (the projected force is zero there and
+// the CG direction must not move it).
+inline bool held_by_wall(double z, double h, double f) { return z <= h && f <= 0.0; }
+}  // namespace
+
 void SurfaceCg::set_state(const double *s) {
     if (!(s[0] >= 0.0) || !std::isfinite(s[0]) || (s[1] != 0.0 && s[1] != 1.0)) fail(GFMD_ERR_FORMAT, "invalid CG state");
     prev_r2_ = s[0];
@@ -74,7 +80,7 @@ void SurfaceCg::advance(StepContext &c, RealBuffer *scratch) {
             double rt = 0.0;
 #pragma omp simd reduction(+ : rt)
             for (int64_t i = i0; i < i1; ++i) {
-                const bool held = z[i] <= h[i] && f[i] <= 0.0;
+                const bool held = held_by_wall(z[i], h[i], f[i]);
                 const double ti = held ? 0.0 : s[i] + b * t[i];
                 t[i] = ti;
                 rt += f[i] * ti;
@@ -92,7 +98,7 @@ void SurfaceCg::advance(StepContext &c, RealBuffer *scratch) {
             double st = 0.0, nf = 0.0;
 #pragma omp simd reduction(+ : st, nf)
             for (int64_t i = i0; i < i1; ++i) {
-                const bool held = z[i] <= h[i] && f[i] <= 0.0;
+                const bool held = held_by_wall(z[i], h[i], f[i]);
                 st += held ? 0.0 : t[i];
                 nf += held ? 0.0 : 1.0;
             }
@@ -104,7 +110,7 @@ void SurfaceCg::advance(StepContext &c, RealBuffer *scratch) {
             double rt = 0.0;
 #pragma omp simd reduction(+ : rt)
             for (int64_t i = i0; i < i1; ++i) {
-                const bool held = z[i] <= h[i] && f[i] <= 0.0;
+                const bool held = held_by_wall(z[i], h[i], f[i]);
                 t[i] = held ? 0.0 : t[i] - mt;
                 rt += f[i] * t[i];
             }
@@ -197,7 +203,7 @@ double SurfaceCg::precondition(const StepContext &c, double *zp) {
     }
     grid.for_points([&](int64_t i0, int64_t i1) {
 #pragma omp simd
-        for (int64_t i = i0; i < i1; ++i) zp[i] = (z[i] <= h[i] && f[i] <= 0.0) ? 0.0 : f[i];
+        for (int64_t i = i0; i < i1; ++i) zp[i] = held_by_wall(z[i], h[i], f[i]) ? 0.0 : f[i];
     });
     grid.forward(zp, c.fields.work.data());
     std::complex<double> *work = c.fields.work.data();
@@ -214,7 +220,7 @@ double SurfaceCg::precondition(const StepContext &c, double *zp) {
         double rz = 0.0;
 #pragma omp simd reduction(+ : rz)
         for (int64_t i = i0; i < i1; ++i) {
-            const bool held = z[i] <= h[i] && f[i] <= 0.0;
+            const bool held = held_by_wall(z[i], h[i], f[i]);
             zp[i] = held ? 0.0 : zp[i];
             rz += held ? 0.0 : f[i] * zp[i];
         }
