@@ -173,4 +173,13 @@ double stiffest_mode_within(const FftGrid &grid, const Body &body, double q2) {
     return kc;
 }
 
+int contact_octave(int64_t contacts) {
+    return (contacts > 0) ? static_cast<int>(std::floor(std::log2(static_cast<double>(contacts)))) : 0;
+}
+
+double contact_spacing_q2(const FftGrid &grid, double spacing, double points) {
+    const double phi = points / static_cast<double>(grid.real_size());
+    return spacing * spacing * 4.0 * kPi * phi / grid.area_per_point();
+}
+
 }  // namespace gfmd

@@ -35,6 +35,14 @@ double longest_wave_softness(const FftGrid &grid, const Body &body, double e_sta
 // of the solvers that weigh the modes by their stiffness, at the contact spacing.
 double stiffest_mode_within(const FftGrid &grid, const Body &body, double q2);
 
+// The octave floor(log2(contacts)) of a contact count (0 without contact): the solvers' floors
+// follow it, so they are a function of the state (checkpoints resume bit for bit).
+int contact_octave(int64_t contacts);
+
+// |q|^2 = spacing^2 4 pi phi / cell at the mean spacing of `points` contacts (phi = points / N):
+// the wave vector below which the contacts pin the modes, times `spacing`.
+double contact_spacing_q2(const FftGrid &grid, double spacing, double points);
+
 // 1/f(t) for a kind of body (GFMD_GREEN_*), t = q w > 0, nu used by the bonded layer only.
 // Finite and >= 0 for every finite t > 0; the mode stiffness is q E* / 2 * inverse_factor.
 double green_inverse_factor(int32_t kind, double t, double nu);

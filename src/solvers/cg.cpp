@@ -191,10 +191,9 @@ double SurfaceCg::precondition(const StepContext &c, double *zp) {
     const double *stiff = c.body.stiffness.data();
     const int64_t nxh = grid.nxh();
     const int64_t contacts = c.forces.contacts;
-    const int bucket = (contacts > 0) ? static_cast<int>(std::floor(std::log2(static_cast<double>(contacts)))) : 0;
+    const int bucket = contact_octave(contacts);
     if (bucket != bucket_) {
-        const double phi = std::ldexp(std::sqrt(2.0), bucket) / static_cast<double>(grid.real_size());
-        double qc2 = kPcgSpacing * kPcgSpacing * 4.0 * kPi * phi / grid.area_per_point();
+        double qc2 = contact_spacing_q2(grid, kPcgSpacing, std::ldexp(std::sqrt(2.0), bucket));
         const double w = c.params.width;  // > 0: preconditioned only on a layer
         qc2 = std::min(qc2, kPcgWidth * kPcgWidth / (w * w));
         const double kc = stiffest_mode_within(grid, c.body, qc2);

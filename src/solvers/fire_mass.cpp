@@ -25,10 +25,9 @@ void FireMass::update_mass_floor(const StepContext &c) {
     const FftGrid &grid = c.grid;
     const RealBuffer &stiff = c.body.stiffness;
     const int64_t contacts = c.forces.contacts;
-    const int bucket = (contacts > 0) ? static_cast<int>(std::floor(std::log2(static_cast<double>(contacts)))) : 0;
+    const int bucket = contact_octave(contacts);
     if (bucket == bucket_) return;
-    const double phi = std::ldexp(1.0, bucket) / static_cast<double>(grid.real_size());
-    const double qc2 = kMassSpacing * kMassSpacing * 4.0 * kPi * phi / grid.area_per_point();
+    const double qc2 = contact_spacing_q2(grid, kMassSpacing, std::ldexp(1.0, bucket));
     const double kc = stiffest_mode_within(grid, c.body, qc2);
     const int64_t nxh = grid.nxh();
     floor_ = std::min(std::max(kc, c.body.k_min), c.body.k_max);
