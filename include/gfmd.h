@@ -228,11 +228,12 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * body under pressure control GFMD_SOLVER_CG on a half-space or bonded layer whose long waves are
  * not too soft, S sqrt(nx ny) <= 4e4 with S = k_halfspace(q_max)/k_min -- a bonded coating of any
  * Poisson's ratio, a half-space up to about 240^2 -- and on every layer on a fluid foundation
- * (preconditioned there); with adhesion GFMD_SOLVER_MASS_FIRE on a layer on a fluid foundation
+ * (preconditioned there), except that from nx ny >= 2048^2 on a load that starts from a deformed
+ * surface (not flat: a load continuing from the last equilibrium) takes GFMD_SOLVER_MASS_FIRE
+ * there; with adhesion GFMD_SOLVER_MASS_FIRE on a layer on a fluid foundation
  * with f(q_min w) >= 2e4 (W <= 0.5 at 256^2, W <= 4 at 2048^2) at a load where Persson's
- * A/A0 < 0.1; GFMD_SOLVER_FIRE otherwise; re-chosen whenever
- * the body, the adhesion or
- * the load control changes; the rule and its measurements are in docs/performance.md;
+ * A/A0 < 0.1; GFMD_SOLVER_FIRE otherwise; re-chosen whenever the body, the substrate, the
+ * adhesion, the load or the load control changes and at gfmd_reset(), from the state then; the rule and its measurements are in docs/performance.md;
  * gfmd_get_solver() tells the choice),
  * GFMD_SOLVER_CG (constrained conjugate gradients: under pressure control on a half-space or a
  * bonded layer Polonsky & Keer's iteration on the contact pressure, two FFT pairs an iteration

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <complex>
 #include <cstdio>
+#include <limits>
 #include <string>
 #include <utility>
 
@@ -302,8 +303,18 @@ constexpr double kAutoCgBound = 4e4;
 // FIRE's time on every layer (256^2: W = 100 ... 0.0625; 1024^2: W = 100, 10, 4, 1).  So CG on
 // every such body: at worst 1.24x slower than FIRE, where FIRE was at worst 5.8x slower.
 // Not so in the study's sweeps at 2048^2 with lambda_r = 64 lambda_s (gfmd_paper --full,
-// docs/paper/full.md): there the thin sheets W <= 0.25 and W = 100 took 1.5-2.8x the seconds of
-// FIRE with the approach; a size- and continuation-aware rule is open (issue 13).
+// docs/paper/full.md): there the loads that continue from the last equilibrium took CG 0.7-1.4x
+// as many iterations as FIRE steps (W = 100: 2771 against 1975; W = 0.0625: 6882 against 9549),
+// at 2.3-3.8x a step's time, so the thin sheets W <= 0.25 and W = 100 took 1.3-3.3x the seconds
+// of the approach then FIRE, W = 0.5-4 0.84-1.02x; the first loads from flat stayed CG's
+// (W = 10 at 2048^2: 0.30-1.06x; 4096^2, W = 1: 22.0 s against 39.8 s).  At 1024^2 with the same
+// spectrum (lambda_r = 256 a) the continuing loads of W = 100 were still CG's (0.73x) and a thin
+// sheet's (W = 0.0625) 1.39x FIRE's.  So from 2048^2 on, a load that starts from a deformed
+// surface takes the approach then FIRE (GFMD_SOLVER_MASS_FIRE); a flat surface (a first load)
+// takes CG at every size.  Measured with the rule (five bodies of --full, full.md): W = 100,
+// 0.25, 0.125, 0.0625 0.42-0.92x the all-CG seconds, but W = 1 1.5x (its high loads are CG's):
+// the middle widths lose; a rule that keeps them on CG is open.
+constexpr double kAutoContinueFirePoints = 2048.0 * 2048.0;
 // With adhesion (CG minimizes the quadratic problem only), at most 100 mass-weighted FIRE steps
 // after each restart, then FIRE (GFMD_SOLVER_MASS_FIRE), where the longest wave is much softer
 // than on a half-space, f(q_min w) = k_halfspace(q_min)/k(q_min) >= 2e4, and the load is low,
@@ -322,7 +333,10 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
     if (params_.control != kPressureControl) return GFMD_SOLVER_FIRE;
     const bool quadratic = !(params_.gamma0 > 0.0);
     if (params_.kind == GFMD_GREEN_LAYER_FLUID) {
-        if (quadratic) return GFMD_SOLVER_CG;
+        if (quadratic) {
+            const bool big = static_cast<double>(grid_.real_size()) >= kAutoContinueFirePoints;
+            return (big && !surface_flat()) ? GFMD_SOLVER_MASS_FIRE : GFMD_SOLVER_CG;
+        }
         const double area = gfmd::persson_contact_area(gfmd::persson_variance(grid_, body_, fields_), params_.sigma0);
         const bool soft = longest_wave_softness(grid_, body_, params_.e_star) >= kAutoApproachSoftness;
         return (soft && area < kAutoApproachArea) ? GFMD_SOLVER_MASS_FIRE : GFMD_SOLVER_FIRE;
@@ -330,6 +344,17 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
     if (!quadratic) return GFMD_SOLVER_FIRE;
     const double cost = long_wave_softness(grid_, body_, params_.e_star) * std::sqrt(static_cast<double>(grid_.real_size()));
     return (cost <= kAutoCgBound) ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE;
+}
+
+bool Simulation::surface_flat() const {
+    const double *z = fields_.z.data();
+    double m[2] = {-std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+    for (std::size_t i = 0; i < fields_.z.size(); ++i) {
+        m[0] = std::max(m[0], z[i]);
+        m[1] = std::max(m[1], -z[i]);
+    }
+    grid_.reduce_max(m, 2);  // every rank: the same answer, the same solver
+    return !(m[0] + m[1] > 0.0);
 }
 
 void Simulation::follow_auto_choice() {

@@ -295,6 +295,43 @@ static void automatic_choice(void **state) {
     assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.002, 1e-3, 1), GFMD_SOLVER_FIRE);
 }
 
+/* From 2048^2 on, a layer on a fluid foundation without adhesion takes CG for a load that starts
+ * from a flat surface and the approach then FIRE for one that continues from a deformed surface
+ * (the rule of gfmd_set_solver(), measured in docs/paper/full.md); at 1024^2 CG either way.  A
+ * 2048^2 grid costs tens of seconds under valgrind: natively and under the sanitizers only. */
+static void automatic_choice_when_continuing(void **state) {
+    (void)state;
+    const char *preload = getenv("LD_PRELOAD");
+    if (preload != NULL && strstr(preload, "vgpreload") != NULL) skip();
+    const double pi = acos(-1.0);
+    const int64_t sizes[] = {1024, 2048};
+    for (int k = 0; k < 2; ++k) {
+        const int64_t n = sizes[k];
+        gfmd_sim *s = NULL;
+        assert_int_equal(gfmd_sim_create_ex(n, n, (double)n, (double)n, 1, GFMD_PLANNER_ESTIMATE, &s), GFMD_OK);
+        double *h = malloc((size_t)(n * n) * sizeof *h);
+        assert_non_null(h);
+        for (int64_t y = 0; y < n; ++y)
+            for (int64_t x = 0; x < n; ++x)
+                h[y * n + x] = 0.5 * (cos(8.0 * pi * (double)x / (double)n) + cos(8.0 * pi * (double)y / (double)n)) - 1.0;
+        TS_OK(s, gfmd_set_heights(s, h));
+        free(h);
+        TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 4.0));
+        TS_OK(s, gfmd_set_pressure(s, 0.01));
+        int32_t solver = -1;
+        TS_OK(s, gfmd_get_solver(s, &solver));
+        assert_int_equal(solver, GFMD_SOLVER_CG); /* flat: a first load */
+        TS_OK(s, gfmd_step(s, 2));
+        TS_OK(s, gfmd_set_pressure(s, 0.02));
+        TS_OK(s, gfmd_get_solver(s, &solver));
+        assert_int_equal(solver, n >= 2048 ? GFMD_SOLVER_MASS_FIRE : GFMD_SOLVER_CG);
+        TS_OK(s, gfmd_reset(s)); /* flat again */
+        TS_OK(s, gfmd_get_solver(s, &solver));
+        assert_int_equal(solver, GFMD_SOLVER_CG);
+        gfmd_sim_destroy(&s);
+    }
+}
+
 /* CG's 16 bytes per point that cannot be had: GFMD_ERR_NOMEM and the solver unchanged.  In a child
  * process whose address space is capped just above what it uses and then filled (not under the
  * sanitizers or valgrind, which need address space of their own). */
@@ -424,6 +461,7 @@ int main(void) {
         cmocka_unit_test(null_handle),
         cmocka_unit_test(create_and_destroy),
         cmocka_unit_test(automatic_choice),
+        cmocka_unit_test(automatic_choice_when_continuing),
         cmocka_unit_test(cg_without_memory),
         cmocka_unit_test_setup_teardown(null_outputs, setup, teardown),
         cmocka_unit_test_setup_teardown(bad_parameters, setup, teardown),
