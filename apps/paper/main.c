@@ -11,6 +11,8 @@
  * L = 2 lambda_r; --full: N = 2048, R = 64, L = 8 lambda_r as in the paper; --quick, the test's
  * mode: N = 128, R = 16, half of the bodies; options after --full/--quick override), g = 1,
  * E* = 1, uniform random amplitudes.  Every load step continues from the last equilibrium.
+ * --multilevel LEVELS: each body's first load relaxed first on grids coarser by 2, 4, ... 2^(LEVELS-1)
+ * (gfmd_relax_multilevel); 1 = a flat start; default 4 from N = 2048 on, 1 below.
  * --approach STEPS: each relaxation (but a multilevel first load) starts with at most STEPS
  * mass-weighted FIRE steps, then continues with the chosen solver to the tolerance (mass weighting
  * approaches the equilibrium fast and then converges slowly; docs/performance.md).
@@ -71,7 +73,7 @@ static void set_widths(double *to, int *n, const double *from, int count) {
 
 static options parse_options(int argc, char **argv) {
     options o = {.n = 256, .bandwidth = 32.0, .seed = 2016, .threads = 0, .jobs = 0, .planner = GFMD_PLANNER_MEASURE, .adhesion = 1, .pulloff = 0,
-                 .solver = GFMD_SOLVER_AUTO, .levels = 1, .approach = 0, .dir = "."};
+                 .solver = GFMD_SOLVER_AUTO, .levels = 0, .approach = 0, .dir = "."};
     set_widths(o.widths, &o.n_widths, ALL_WIDTHS, COUNT(ALL_WIDTHS));
     set_widths(o.adh_widths, &o.n_adh, ALL_ADH_WIDTHS, COUNT(ALL_ADH_WIDTHS));
     int adhesion_only = 0; /* applied after the loop: --quick or --widths later cannot undo it */
@@ -108,7 +110,10 @@ static options parse_options(int argc, char **argv) {
                 o.adh_widths[k++] = strtod(tok, NULL);
             o.n_adh = k;
         }
-        else if (!strcmp(argv[i], "--multilevel") && i + 1 < argc) o.levels = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--multilevel") && i + 1 < argc) {
+            o.levels = atoi(argv[++i]);
+            if (o.levels == 0) o.levels = -1; /* refused below (0 stands for "not given") */
+        }
         else if (!strcmp(argv[i], "--approach") && i + 1 < argc) o.approach = strtol(argv[++i], NULL, 10);
         else if (!strcmp(argv[i], "--solver") && i + 1 < argc) {
             ++i;
@@ -152,7 +157,15 @@ static options parse_options(int argc, char **argv) {
         fprintf(stderr, "gfmd_paper: --approach takes 0 (none) to 1000000 mass-weighted steps\n");
         exit(2);
     }
-    if (o.levels < 1 || o.levels > 8) {
+    /* not given: every body's first load from 3 coarser grids from 2048^2 on (--full), a flat start
+     * below.  The runs of docs/paper/full.md at 2048^2: the multilevel first loads of the thin sheets
+     * W <= 0.25 took 0.45-0.76x the CG's from flat (W = 0.0625: 219.63 s against 485.68 s), the
+     * half-space 0.52x FIRE's, most adhesive bodies 0.65-0.85x; slower on W = 100 (25.08 s against
+     * 8.85 s), W = 1 (1.2x) and the adhesive W = 0.0625 (1.3x), far less in sum than the thin sheets
+     * gain.  At 512^2 the CG from flat is faster (8.82 s against 11.96 s, docs/performance.md), at
+     * 1024^2 the two are about even: hence the size. */
+    if (o.levels == 0) o.levels = o.n >= 2048 ? 4 : 1;
+    else if (o.levels < 1 || o.levels > 8) {
         fprintf(stderr, "gfmd_paper: --multilevel takes 1 (a flat start) to 8 levels\n");
         exit(2);
     }
@@ -188,6 +201,7 @@ int main(int argc, char **argv) {
     double u_max = 0.0;
     gfmd_sim *surface = make_surface(&o, &u_max);
     if (o.jobs > 1) printf("bodies swept %d at a time, %ld thread(s) each\n", o.jobs, o.threads);
+    if (o.levels > 1) printf("each body's first load from %d coarser grids (--multilevel %d)\n", o.levels - 1, o.levels);
     const double t_start = now();
     fits f = {NAN, {0}, {NAN, NAN}, {{NAN, NAN}, {NAN, NAN}, {NAN, NAN}}, NAN};
 
@@ -198,7 +212,7 @@ int main(int argc, char **argv) {
     for (int b = 0; b < o.n_widths; ++b) bodies[n++] = (body){.W = o.widths[b], .adhesive = 0};
     for (int b = 0; o.adhesion && b < o.n_adh; ++b) bodies[n++] = (body){.W = o.adh_widths[b], .adhesive = 1};
     run_bodies(surface, u_max, &o, bodies, n);
-    double first = 0.0;  /* the sweeps' first loads, each from a flat start */
+    double first = 0.0;  /* the sweeps' first loads, each from a flat start or from coarser grids */
     long long steps = 0; /* every relaxation step of every sweep */
     static sweep sw[MAX_BODIES], ad[MAX_BODIES];
     for (int k = 0; k < n; ++k) {

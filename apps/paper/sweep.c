@@ -89,7 +89,7 @@ void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, co
     }
     double seconds = 0.0;
     for (int k = 0; k < N_LOADS; ++k) seconds += out->p[k].seconds;
-    fprintf(log, "this body: %lld steps, %.2f s; its first load (from flat) %lld steps, %.2f s\n", sweep_steps(out), seconds,
-           out->p[0].steps, out->p[0].seconds);
+    fprintf(log, "this body: %lld steps, %.2f s; its first load (%s) %lld steps, %.2f s\n", sweep_steps(out), seconds,
+           levels > 1 ? "from coarser grids" : "from flat", out->p[0].steps, out->p[0].seconds);
     gfmd_sim_destroy(&s);
 }
