@@ -17,6 +17,7 @@ typedef struct {
     double u_max;
     const options *o;
     body *bodies;
+    double t_start; /* now() when the sweeps began: the progress lines say the wall time so far */
     int n, next, finished_count;
     int order[2 * MAX_BODIES]; /* the order the workers take the bodies in */
     pthread_mutex_t mutex;
@@ -45,9 +46,11 @@ static void *worker(void *arg) {
         pthread_mutex_lock(&p->mutex);
         b->text = text;
         b->done = 1;
-        /* progress: the blocks on stdout wait for the bodies before them in the study's order */
-        fprintf(stderr, "gfmd_paper: %d of %d bodies done (W = %g%s, %lld steps)\n", ++p->finished_count, p->n,
-                b->W, b->adhesive ? ", adhesive" : "", sweep_steps(&b->out));
+        /* progress: the blocks on stdout wait for the bodies before them in the study's order (a
+         * --full run shows nothing on stdout for most of its hours) */
+        fprintf(stderr, "gfmd_paper: %d of %d bodies done (W = %g%s, %lld steps, %.2f s), %.0f s since the sweeps began\n",
+                ++p->finished_count, p->n, b->W, b->adhesive ? ", adhesive" : "", sweep_steps(&b->out),
+                sweep_seconds(&b->out), now() - p->t_start);
         pthread_cond_broadcast(&p->finished);
         pthread_mutex_unlock(&p->mutex);
     }
@@ -58,7 +61,7 @@ void run_bodies(const gfmd_sim *surface, double u_max, const options *o, body *b
         for (int k = 0; k < n; ++k) run_sweep(surface, bodies[k].W, bodies[k].adhesive, u_max, o, &bodies[k].out, stdout);
         return;
     }
-    pool p = {surface, u_max, o, bodies, n, 0, 0, {0}, PTHREAD_MUTEX_INITIALIZER, PTHREAD_COND_INITIALIZER};
+    pool p = {surface, u_max, o, bodies, now(), n, 0, 0, {0}, PTHREAD_MUTEX_INITIALIZER, PTHREAD_COND_INITIALIZER};
     for (int k = 0; k < n; ++k) { /* insertion sort by cost rank: stable, n <= 2 MAX_BODIES */
         int j = k;
         for (; j > 0 && cost_rank(&bodies[p.order[j - 1]]) > cost_rank(&bodies[k]); --j) p.order[j] = p.order[j - 1];

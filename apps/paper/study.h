@@ -94,6 +94,8 @@ double now(void);
 gfmd_sim *make_body(const gfmd_sim *surface, double W, int32_t solver);
 /* The relaxation steps of one sweep (this grid's; a multilevel start's coarse steps not counted). */
 long long sweep_steps(const sweep *s);
+/* The seconds of its loads (a multilevel start's coarse grids included). */
+double sweep_seconds(const sweep *s);
 void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, const options *o, sweep *out,
                FILE *log);
 /* bodies.c: the sweeps of n bodies, o->jobs at a time, their blocks printed in the given order */

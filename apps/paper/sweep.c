@@ -26,6 +26,12 @@ long long sweep_steps(const sweep *s) {
     return n;
 }
 
+double sweep_seconds(const sweep *s) {
+    double t = 0.0;
+    for (int k = 0; k < s->n; ++k) t += s->p[k].seconds;
+    return t;
+}
+
 gfmd_sim *make_body(const gfmd_sim *surface, double W, int32_t solver) {
     gfmd_sim *s = NULL;
     CHECK(surface, gfmd_sim_clone(surface, &s));
@@ -87,9 +93,7 @@ void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, co
                p->persson, p->sep, p->u_el, p->u_ad, p->steps, p->seconds);
         fflush(log);
     }
-    double seconds = 0.0;
-    for (int k = 0; k < N_LOADS; ++k) seconds += out->p[k].seconds;
-    fprintf(log, "this body: %lld steps, %.2f s; its first load (%s) %lld steps, %.2f s\n", sweep_steps(out), seconds,
+    fprintf(log, "this body: %lld steps, %.2f s; its first load (%s) %lld steps, %.2f s\n", sweep_steps(out), sweep_seconds(out),
            levels > 1 ? "from coarser grids" : "from flat", out->p[0].steps, out->p[0].seconds);
     gfmd_sim_destroy(&s);
 }
