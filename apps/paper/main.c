@@ -5,7 +5,7 @@
  *
  *   gfmd_paper [--n N] [--bandwidth R] [--full | --quick] [--out DIR] [--seed S] [--threads T] [--jobs J]
  *              [--no-adhesion | --adhesion-only] [--widths 0,W1,W2,...] [--adh-widths W1,...] [--pulloff]
- *              [--solver auto|fire|mass|cg] [--multilevel LEVELS] [--approach STEPS]
+ *              [--solver auto|fire|mass|cg] [--multilevel LEVELS] [--approach STEPS] [--plan]
  *
  * Surface: H = 0.8, lambda_s = 4a, lambda_r = R lambda_s, cell L = N a (default N = 256, R = 32,
  * L = 2 lambda_r; --full: N = 2048, R = 64, L = 8 lambda_r as in the paper; --quick, the test's
@@ -21,6 +21,9 @@
  * the numbers do not depend on J (bodies.c).  Default: as many bodies at a time as the machine has
  * cores, one thread each (measured faster than threads inside each relaxation, docs/paper/full.md),
  * but --threads T alone sweeps one body at a time on T threads.  --planner: FFTW's rigour (default measure).
+ * --plan: print what the options resolve to (grid, bodies, jobs and threads, first-load start,
+ * approach, solver) and exit without relaxing anything or writing DIR — a 2048^2 run costs hours,
+ * so its defaults are checked this way (tests/paper/run_plan.cmake).
  * Writes CSV tables into DIR (one per figure, see docs/paper/README.md) and prints the fits
  * (fits.c says which). */
 #define _POSIX_C_SOURCE 200809L /* sysconf */
@@ -61,7 +64,7 @@ void die(const gfmd_sim *s, int32_t st, const char *what) {
 }
 
 static void usage(const char *argv0) {
-    fprintf(stderr, "usage: %s [--n N] [--bandwidth R] [--full | --quick] [--out DIR] [--seed S] [--threads T] [--jobs J] [--planner measure|estimate] [--no-adhesion | --adhesion-only] [--widths 0,W1,...] [--adh-widths W1,...] [--pulloff] [--solver auto|fire|mass|cg] [--multilevel LEVELS] [--approach STEPS]\n",
+    fprintf(stderr, "usage: %s [--n N] [--bandwidth R] [--full | --quick] [--out DIR] [--seed S] [--threads T] [--jobs J] [--planner measure|estimate] [--no-adhesion | --adhesion-only] [--widths 0,W1,...] [--adh-widths W1,...] [--pulloff] [--solver auto|fire|mass|cg] [--multilevel LEVELS] [--approach STEPS] [--plan]\n",
             argv0);
     exit(2);
 }
@@ -114,6 +117,7 @@ static options parse_options(int argc, char **argv) {
             o.levels = atoi(argv[++i]);
             if (o.levels == 0) o.levels = -1; /* refused below (0 stands for "not given") */
         }
+        else if (!strcmp(argv[i], "--plan")) o.plan = 1;
         else if (!strcmp(argv[i], "--approach") && i + 1 < argc) o.approach = strtol(argv[++i], NULL, 10);
         else if (!strcmp(argv[i], "--solver") && i + 1 < argc) {
             ++i;
@@ -169,20 +173,46 @@ static options parse_options(int argc, char **argv) {
         fprintf(stderr, "gfmd_paper: --multilevel takes 1 (a flat start) to 8 levels\n");
         exit(2);
     }
-    if (mkdir(o.dir, 0777) != 0 && errno != EEXIST) {
+    if (!o.plan && mkdir(o.dir, 0777) != 0 && errno != EEXIST) {
         fprintf(stderr, "gfmd_paper: cannot create %s: %s\n", o.dir, strerror(errno));
         exit(1);
     }
     return o;
 }
 
-/* The study's substrate on a handle that every body clones; *u_max = max h - <h>. */
-static gfmd_sim *make_surface(const options *o, double *u_max) {
+/* What the options resolve to: the lines every run prints before its sweeps and, with --plan,
+ * the rest of what the run would do. */
+static void print_plan(const options *o) {
     const double l = (double)o->n, lambda_r = o->bandwidth * LAMBDA_S;
     printf("gfmd %s: the study of Putignano, Dapp & Mueser (2016)\n", gfmd_version());
     printf("grid %ldx%ld, L = %.0f a, lambda_s = %.0f a, lambda_r = %.0f a (= %.0f lambda_s, L = %.3g lambda_r), "
            "H = %.1f, g = %.0f, E* = %.0f, seed %llu\n",
            o->n, o->n, l, LAMBDA_S, lambda_r, o->bandwidth, l / lambda_r, HURST, GRADIENT, E_STAR, o->seed);
+    if (o->jobs > 1 || o->plan) {
+        if (o->threads > 0) printf("bodies swept %d at a time, %ld thread(s) each\n", o->jobs, o->threads);
+        else printf("bodies swept %d at a time, the library's default threads each\n", o->jobs);
+    }
+    if (o->levels > 1) printf("each body's first load from %d coarser grids (--multilevel %d)\n", o->levels - 1, o->levels);
+    else if (o->plan) printf("each body's first load from a flat surface (--multilevel 1)\n");
+    if (!o->plan) return;
+    printf("bodies without adhesion, W (0 = half-space):");
+    for (int b = 0; b < o->n_widths; ++b) printf(" %g", o->widths[b]);
+    printf(o->n_widths ? "\n" : " none\n");
+    printf("adhesive bodies, W:");
+    for (int b = 0; o->adhesion && b < o->n_adh; ++b) printf(" %g", o->adh_widths[b]);
+    printf(o->adhesion && o->n_adh ? "%s\n" : " none%s\n", o->adhesion && o->pulloff ? ", each with its pull-off" : "");
+    if (o->approach > 0) printf("every other load: up to %ld mass-weighted steps first (--approach %ld)\n", o->approach, o->approach);
+    else printf("every other load: no approach steps (--approach 0)\n");
+    static const char *const names[] = {[GFMD_SOLVER_AUTO] = "auto", [GFMD_SOLVER_FIRE] = "fire",
+                                        [GFMD_SOLVER_FIRE_MASS] = "mass", [GFMD_SOLVER_CG] = "cg"};
+    const int k = (int)o->solver; /* one of the four --solver sets */
+    printf("solver: %s\n", k >= 0 && k < COUNT(names) && names[k] ? names[k] : "?");
+    printf("plan only (--plan): nothing relaxed, nothing written\n");
+}
+
+/* The study's substrate on a handle that every body clones; *u_max = max h - <h>. */
+static gfmd_sim *make_surface(const options *o, double *u_max) {
+    const double l = (double)o->n, lambda_r = o->bandwidth * LAMBDA_S;
     gfmd_sim *surface = NULL;
     CHECK(NULL, gfmd_sim_create_ex(o->n, o->n, l, l, (int32_t)o->threads, o->planner, &surface));
     CHECK(surface, gfmd_generate_selfaffine(surface, HURST, lambda_r, LAMBDA_S, GRADIENT, o->seed, GFMD_DIST_UNIFORM));
@@ -198,10 +228,10 @@ static gfmd_sim *make_surface(const options *o, double *u_max) {
 
 int main(int argc, char **argv) {
     const options o = parse_options(argc, argv);
+    print_plan(&o);
+    if (o.plan) return 0;
     double u_max = 0.0;
     gfmd_sim *surface = make_surface(&o, &u_max);
-    if (o.jobs > 1) printf("bodies swept %d at a time, %ld thread(s) each\n", o.jobs, o.threads);
-    if (o.levels > 1) printf("each body's first load from %d coarser grids (--multilevel %d)\n", o.levels - 1, o.levels);
     const double t_start = now();
     fits f = {NAN, {0}, {NAN, NAN}, {{NAN, NAN}, {NAN, NAN}, {NAN, NAN}}, NAN};
 

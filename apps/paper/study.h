@@ -38,6 +38,7 @@ typedef struct {
     int pulloff;            /* and the pull-off of each adhesive sheet (Fig. 8) */
     int32_t solver;         /* GFMD_SOLVER_* */
     int levels;             /* the first load of each body: gfmd_relax_multilevel with these levels (1: flat start) */
+    int plan;               /* --plan: print what the options resolve to and exit */
     long approach;          /* each other relaxation: up to this many mass-weighted FIRE steps first (0: none) */
     const char *dir;        /* output folder */
     double widths[MAX_BODIES], adh_widths[MAX_BODIES]; /* W = w/lambda_s, 0 = half-space first */
