@@ -3,7 +3,8 @@
  * body's printed block appears in the study's order, whatever order the bodies finish in.  Each
  * body's arithmetic is its own, so its numbers do not depend on J when the FFT plans are the same
  * (--planner estimate; FFTW_MEASURE times candidate plans, and bodies timed side by side may get
- * other plans, which round differently). */
+ * other plans, which round differently).  Each body is saved when it is done (resume.c); bodies read
+ * back (--resume) are not relaxed again, only printed in their place. */
 #define _POSIX_C_SOURCE 200809L /* open_memstream */
 #include <math.h>
 #include <pthread.h>
@@ -18,8 +19,8 @@ typedef struct {
     const options *o;
     body *bodies;
     double t_start; /* now() when the sweeps began: the progress lines say the wall time so far */
-    int n, next, finished_count;
-    int order[2 * MAX_BODIES]; /* the order the workers take the bodies in */
+    int pending, next, finished_count, n; /* bodies to relax, taken, done (read ones too), in all */
+    int order[2 * MAX_BODIES];            /* the order the workers take the pending bodies in */
     pthread_mutex_t mutex;
     pthread_cond_t finished;
 } pool;
@@ -33,7 +34,7 @@ static void *worker(void *arg) {
     pool *p = arg;
     for (;;) {
         pthread_mutex_lock(&p->mutex);
-        const int k = p->next < p->n ? p->order[p->next++] : -1;
+        const int k = p->next < p->pending ? p->order[p->next++] : -1;
         pthread_mutex_unlock(&p->mutex);
         if (k < 0) return NULL;
         body *b = &p->bodies[k];
@@ -43,6 +44,7 @@ static void *worker(void *arg) {
         if (!log) die(NULL, GFMD_ERR_NOMEM, "open_memstream");
         run_sweep(p->surface, b->W, b->adhesive, p->u_max, p->o, &b->out, log);
         fclose(log);
+        save_body(p->o, b);
         pthread_mutex_lock(&p->mutex);
         b->text = text;
         b->done = 1;
@@ -58,16 +60,29 @@ static void *worker(void *arg) {
 
 void run_bodies(const gfmd_sim *surface, double u_max, const options *o, body *bodies, int n) {
     if (o->jobs <= 1) {
-        for (int k = 0; k < n; ++k) run_sweep(surface, bodies[k].W, bodies[k].adhesive, u_max, o, &bodies[k].out, stdout);
+        for (int k = 0; k < n; ++k) {
+            if (bodies[k].done) { /* read from its checkpoint (--resume) */
+                fputs(bodies[k].text, stdout);
+                free(bodies[k].text);
+                bodies[k].text = NULL;
+                continue;
+            }
+            run_sweep(surface, bodies[k].W, bodies[k].adhesive, u_max, o, &bodies[k].out, stdout);
+            save_body(o, &bodies[k]);
+        }
         return;
     }
-    pool p = {surface, u_max, o, bodies, now(), n, 0, 0, {0}, PTHREAD_MUTEX_INITIALIZER, PTHREAD_COND_INITIALIZER};
-    for (int k = 0; k < n; ++k) { /* insertion sort by cost rank: stable, n <= 2 MAX_BODIES */
-        int j = k;
+    pool p = {surface, u_max, o, bodies, now(), 0, 0, 0, n, {0}, PTHREAD_MUTEX_INITIALIZER, PTHREAD_COND_INITIALIZER};
+    for (int k = 0; k < n; ++k) { /* the bodies still to relax, by cost rank: stable, n <= 2 MAX_BODIES */
+        if (bodies[k].done) {
+            ++p.finished_count; /* read from its checkpoint (--resume) */
+            continue;
+        }
+        int j = p.pending++;
         for (; j > 0 && cost_rank(&bodies[p.order[j - 1]]) > cost_rank(&bodies[k]); --j) p.order[j] = p.order[j - 1];
         p.order[j] = k;
     }
-    const int workers = o->jobs < n ? o->jobs : n;
+    const int workers = o->jobs < p.pending ? o->jobs : p.pending;
     pthread_t tid[MAX_JOBS];
     for (int w = 0; w < workers; ++w)
         if (pthread_create(&tid[w], NULL, worker, &p) != 0) die(NULL, GFMD_ERR_NOMEM, "pthread_create");

@@ -5,7 +5,7 @@
  *
  *   gfmd_paper [--n N] [--bandwidth R] [--full | --quick] [--out DIR] [--seed S] [--threads T] [--jobs J]
  *              [--no-adhesion | --adhesion-only] [--widths 0,W1,W2,...] [--adh-widths W1,...] [--pulloff]
- *              [--solver auto|fire|mass|cg] [--multilevel LEVELS] [--approach STEPS] [--plan]
+ *              [--solver auto|fire|mass|cg] [--multilevel LEVELS] [--approach STEPS] [--plan] [--resume]
  *
  * Surface: H = 0.8, lambda_s = 4a, lambda_r = R lambda_s, cell L = N a (default N = 256, R = 32,
  * L = 2 lambda_r; --full: N = 2048, R = 64, L = 8 lambda_r as in the paper; --quick, the test's
@@ -24,6 +24,9 @@
  * --plan: print what the options resolve to (grid, bodies, jobs and threads, first-load start,
  * approach, solver) and exit without relaxing anything or writing DIR — a 2048^2 run costs hours,
  * so its defaults are checked this way (tests/paper/run_plan.cmake).
+ * Every body's sweep is saved in DIR as soon as it is done (resume.c); --resume reads the bodies
+ * found there, of the same study only, instead of relaxing them again: a run that was stopped
+ * goes on where it was (the pull-offs of --pulloff are not saved and run again).
  * Writes CSV tables into DIR (one per figure, see docs/paper/README.md) and prints the fits
  * (fits.c says which). */
 #define _POSIX_C_SOURCE 200809L /* sysconf */
@@ -53,7 +56,7 @@ double now(void) {
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
-void die(const gfmd_sim *s, int32_t st, const char *what) {
+_Noreturn void die(const gfmd_sim *s, int32_t st, const char *what) {
     char msg[512] = "";
     if (s) gfmd_last_error(s, msg, sizeof msg);
     fprintf(stderr, "gfmd_paper: %s failed: %s: %s\n", what, gfmd_status_string(st), msg);
@@ -64,7 +67,7 @@ void die(const gfmd_sim *s, int32_t st, const char *what) {
 }
 
 static void usage(const char *argv0) {
-    fprintf(stderr, "usage: %s [--n N] [--bandwidth R] [--full | --quick] [--out DIR] [--seed S] [--threads T] [--jobs J] [--planner measure|estimate] [--no-adhesion | --adhesion-only] [--widths 0,W1,...] [--adh-widths W1,...] [--pulloff] [--solver auto|fire|mass|cg] [--multilevel LEVELS] [--approach STEPS] [--plan]\n",
+    fprintf(stderr, "usage: %s [--n N] [--bandwidth R] [--full | --quick] [--out DIR] [--seed S] [--threads T] [--jobs J] [--planner measure|estimate] [--no-adhesion | --adhesion-only] [--widths 0,W1,...] [--adh-widths W1,...] [--pulloff] [--solver auto|fire|mass|cg] [--multilevel LEVELS] [--approach STEPS] [--plan] [--resume]\n",
             argv0);
     exit(2);
 }
@@ -118,6 +121,7 @@ static options parse_options(int argc, char **argv) {
             if (o.levels == 0) o.levels = -1; /* refused below (0 stands for "not given") */
         }
         else if (!strcmp(argv[i], "--plan")) o.plan = 1;
+        else if (!strcmp(argv[i], "--resume")) o.resume = 1;
         else if (!strcmp(argv[i], "--approach") && i + 1 < argc) o.approach = strtol(argv[++i], NULL, 10);
         else if (!strcmp(argv[i], "--solver") && i + 1 < argc) {
             ++i;
@@ -194,6 +198,7 @@ static void print_plan(const options *o) {
     }
     if (o->levels > 1) printf("each body's first load from %d coarser grids (--multilevel %d)\n", o->levels - 1, o->levels);
     else if (o->plan) printf("each body's first load from a flat surface (--multilevel 1)\n");
+    if (o->resume) printf("bodies saved in %s by an earlier run of this study are read, not relaxed (--resume)\n", o->dir);
     if (!o->plan) return;
     printf("bodies without adhesion, W (0 = half-space):");
     for (int b = 0; b < o->n_widths; ++b) printf(" %g", o->widths[b]);
@@ -241,6 +246,10 @@ int main(int argc, char **argv) {
     int n = 0;
     for (int b = 0; b < o.n_widths; ++b) bodies[n++] = (body){.W = o.widths[b], .adhesive = 0};
     for (int b = 0; o.adhesion && b < o.n_adh; ++b) bodies[n++] = (body){.W = o.adh_widths[b], .adhesive = 1};
+    int resumed = 0;       /* bodies read from their checkpoints */
+    double resumed_s = 0.0; /* and their own seconds, spent by the runs that relaxed them */
+    for (int k = 0; o.resume && k < n; ++k)
+        if (load_body(&o, &bodies[k])) ++resumed, resumed_s += sweep_seconds(&bodies[k].out);
     run_bodies(surface, u_max, &o, bodies, n);
     double first = 0.0;  /* the sweeps' first loads, each from a flat start or from coarser grids */
     long long steps = 0; /* every relaxation step of every sweep */
@@ -279,6 +288,9 @@ int main(int argc, char **argv) {
     /* with --jobs J > 1 the bodies' own seconds overlap: their sums exceed the wall time */
     printf("total %.1f s, %lld steps (first loads %.2f s%s); tables in %s\n", now() - t_start, steps, first,
            o.jobs > 1 ? " summed over the bodies" : "", o.dir);
+    if (resumed > 0) /* the total is this run's wall time; the steps and first loads are the whole study's */
+        printf("resumed: %d of %d bodies read from %s, relaxed by earlier runs in %.1f s of their own\n", resumed, n,
+               o.dir, resumed_s);
     gfmd_sim_destroy(&surface);
     return 0;
 }

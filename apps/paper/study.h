@@ -39,6 +39,7 @@ typedef struct {
     int32_t solver;         /* GFMD_SOLVER_* */
     int levels;             /* the first load of each body: gfmd_relax_multilevel with these levels (1: flat start) */
     int plan;               /* --plan: print what the options resolve to and exit */
+    int resume;             /* --resume: bodies with a checkpoint in dir are read, not relaxed (resume.c) */
     long approach;          /* each other relaxation: up to this many mass-weighted FIRE steps first (0: none) */
     const char *dir;        /* output folder */
     double widths[MAX_BODIES], adh_widths[MAX_BODIES]; /* W = w/lambda_s, 0 = half-space first */
@@ -63,6 +64,7 @@ typedef struct {
     sweep out;
     char *text;
     int done;
+    int resumed; /* read from its checkpoint (--resume, resume.c) */
 } body;
 
 typedef struct {
@@ -83,7 +85,7 @@ typedef struct {
 extern const double TARGETS[N_TARGETS]; /* contact areas of the theta fits */
 
 /* Failures end the program with the library's message (a study has nothing to recover). */
-void die(const gfmd_sim *s, int32_t st, const char *what);
+_Noreturn void die(const gfmd_sim *s, int32_t st, const char *what);
 #define CHECK(s, call)                            \
     do {                                          \
         int32_t st_ = (call);                     \
@@ -99,6 +101,14 @@ long long sweep_steps(const sweep *s);
 double sweep_seconds(const sweep *s);
 void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, const options *o, sweep *out,
                FILE *log);
+void print_sweep_head(FILE *log, double W, int adhesive);
+void print_point(FILE *log, const point *p);
+void print_sweep_tail(FILE *log, const sweep *s, int levels);
+void print_sweep(FILE *log, const sweep *s, int adhesive, int levels);
+/* resume.c: a body's checkpoint in o->dir, written when it is done; read: 1 if there is one (its
+ * sweep and printed block filled in), 0 if not; another study's or a damaged file ends the run (2) */
+void save_body(const options *o, const body *b);
+int load_body(const options *o, body *b);
 /* bodies.c: the sweeps of n bodies, o->jobs at a time, their blocks printed in the given order */
 void run_bodies(const gfmd_sim *surface, double u_max, const options *o, body *bodies, int n);
 /* pulloff.c */

@@ -32,6 +32,31 @@ double sweep_seconds(const sweep *s) {
     return t;
 }
 
+/* A sweep's printed block, in pieces (printed as the loads relax) or whole (a body read back from
+ * its checkpoint, resume.c): the same text either way. */
+void print_sweep_head(FILE *log, double W, int adhesive) {
+    fprintf(log, "\n%s%s, W = w/lambda_s = %g\n", W > 0 ? "layer on a fluid foundation" : "half-space",
+            adhesive ? " with adhesion" : "", W);
+    fprintf(log, "%12s %10s %10s %10s %12s %12s %7s %7s\n", "sigma0/E*g", "A/A0", "Persson", "s", "U_el", "U_ad", "steps",
+            "seconds");
+}
+
+void print_point(FILE *log, const point *p) {
+    fprintf(log, "%12.4e %10.5f %10.5f %10.5f %12.5e %12.5e %7lld %7.2f\n", p->sigma0 / (E_STAR * GRADIENT), p->area,
+            p->persson, p->sep, p->u_el, p->u_ad, p->steps, p->seconds);
+}
+
+void print_sweep_tail(FILE *log, const sweep *s, int levels) {
+    fprintf(log, "this body: %lld steps, %.2f s; its first load (%s) %lld steps, %.2f s\n", sweep_steps(s), sweep_seconds(s),
+            levels > 1 ? "from coarser grids" : "from flat", s->p[0].steps, s->p[0].seconds);
+}
+
+void print_sweep(FILE *log, const sweep *s, int adhesive, int levels) {
+    print_sweep_head(log, s->W, adhesive);
+    for (int k = 0; k < s->n; ++k) print_point(log, &s->p[k]);
+    print_sweep_tail(log, s, levels);
+}
+
 gfmd_sim *make_body(const gfmd_sim *surface, double W, int32_t solver) {
     gfmd_sim *s = NULL;
     CHECK(surface, gfmd_sim_clone(surface, &s));
@@ -65,10 +90,7 @@ void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, co
     out->n = N_LOADS;
     double variance = 0.0; /* Persson's full-contact pressure variance: one FFT per body */
     CHECK(s, gfmd_persson_variance(s, &variance));
-    fprintf(log, "\n%s%s, W = w/lambda_s = %g\n", W > 0 ? "layer on a fluid foundation" : "half-space",
-           adhesive ? " with adhesion" : "", W);
-    fprintf(log, "%12s %10s %10s %10s %12s %12s %7s %7s\n", "sigma0/E*g", "A/A0", "Persson", "s", "U_el", "U_ad", "steps",
-           "seconds");
+    print_sweep_head(log, W, adhesive);
     for (int k = 0; k < N_LOADS; ++k) {
         point *p = &out->p[k];
         p->W = W;
@@ -89,11 +111,9 @@ void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, co
         CHECK(s, gfmd_get_mean_gap(s, &p->gap));
         CHECK(s, gfmd_get_energies(s, &p->u_el, &p->u_ad));
         p->sep = p->gap / u_max; /* s = 1 - <u>/u_max = mean gap / (max h - <h>) */
-        fprintf(log, "%12.4e %10.5f %10.5f %10.5f %12.5e %12.5e %7lld %7.2f\n", p->sigma0 / (E_STAR * GRADIENT), p->area,
-               p->persson, p->sep, p->u_el, p->u_ad, p->steps, p->seconds);
+        print_point(log, p);
         fflush(log);
     }
-    fprintf(log, "this body: %lld steps, %.2f s; its first load (%s) %lld steps, %.2f s\n", sweep_steps(out), sweep_seconds(out),
-           levels > 1 ? "from coarser grids" : "from flat", out->p[0].steps, out->p[0].seconds);
+    print_sweep_tail(log, out, levels);
     gfmd_sim_destroy(&s);
 }

@@ -59,6 +59,10 @@ expect_lines("--full --jobs 3 --threads 2 --approach 100 --no-adhesion"
   "every other load: up to 100 mass-weighted steps first (--approach 100)"
   "adhesive bodies, W: none")
 
+# --resume: said in the plan (tests/paper/run_resume.cmake runs it)
+plan(--full --resume)
+expect_lines("--full --resume" "bodies saved in ${OUT}/never by an earlier run of this study are read, not relaxed (--resume)")
+
 # the plan is what a run does: a small run's first lines are its plan's
 set(small --n 64 --bandwidth 8 --widths 0,0.25 --no-adhesion --jobs 2 --threads 1 --multilevel 2)
 plan(${small})
