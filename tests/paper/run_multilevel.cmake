@@ -5,19 +5,10 @@
 # gfmd_paper --jobs: the bodies swept two and three at a time (with and without adhesion) write the
 # same tables, bit for bit but the seconds, as one at a time (same FFT plans: --planner estimate),
 # and print the bodies' blocks in the same order; --jobs 0 and --jobs 33 are refused.
-include(${CMAKE_CURRENT_LIST_DIR}/same_tables.cmake)
+include(${CMAKE_CURRENT_LIST_DIR}/study.cmake)
 file(REMOVE_RECURSE ${OUT})
 file(MAKE_DIRECTORY ${OUT})
 set(args --n 64 --bandwidth 8 --widths 0,0.25,0.0625 --no-adhesion --threads 1)
-
-# the study with extra options into OUT/name; fails the test if it fails
-function(run_study name)
-  execute_process(COMMAND ${STUDY} ${args} ${ARGN} --out ${OUT}/${name}
-                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "gfmd_paper ${ARGN} failed (${rc}):\n${out}${err}")
-  endif()
-endfunction()
 
 # OUT/a and OUT/b hold the same equilibria (and another start did run)
 function(expect_same a b what)

@@ -7,22 +7,11 @@
 # estimate).  Refused with exit status 2 and nothing written: a checkpoint of another study
 # (another seed, another first-load start), a damaged one.  Without --resume the checkpoints are
 # ignored and every body relaxed.
-include(${CMAKE_CURRENT_LIST_DIR}/same_tables.cmake)
+include(${CMAKE_CURRENT_LIST_DIR}/study.cmake)
 file(REMOVE_RECURSE ${OUT})
 file(MAKE_DIRECTORY ${OUT})
 set(args --n 64 --bandwidth 8 --widths 0,1,0.25 --adh-widths 1,0.25 --planner estimate --threads 1)
 set(bodies body_W0 body_W1 body_W0.25 body_W1_adhesive body_W0.25_adhesive)
-
-# the study with extra options into OUT/name: stdout in log_<name>, stderr in err_<name>
-function(run_study name)
-  execute_process(COMMAND ${STUDY} ${args} ${ARGN} --out ${OUT}/${name}
-                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "gfmd_paper ${ARGN} --out ${name} failed (${rc}):\n${out}${err}")
-  endif()
-  set(log_${name} "${out}" PARENT_SCOPE)
-  set(err_${name} "${err}" PARENT_SCOPE)
-endfunction()
 
 # a body's printed block (from its title line to its "this body:" line) in a run's stdout
 function(body_block log title var)
