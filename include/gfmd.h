@@ -233,7 +233,9 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * there; with adhesion GFMD_SOLVER_MASS_FIRE on a layer on a fluid foundation
  * with f(q_min w) >= 2e4 (W <= 0.5 at 256^2, W <= 4 at 2048^2) at a load where Persson's
  * A/A0 < 0.1; GFMD_SOLVER_FIRE otherwise; re-chosen whenever the body, the substrate, the
- * adhesion, the load or the load control changes and at gfmd_reset(), from the state then; the rule and its measurements are in docs/performance.md;
+ * adhesion, the load or the load control changes, at gfmd_reset() and on each grid of
+ * gfmd_relax_multilevel() after its start is interpolated (a deformed surface), from the state
+ * then; the rule and its measurements are in docs/performance.md;
  * gfmd_get_solver() tells the choice),
  * GFMD_SOLVER_CG (constrained conjugate gradients: under pressure control on a half-space or a
  * bonded layer Polonsky & Keer's iteration on the contact pressure, two FFT pairs an iteration
@@ -334,7 +336,10 @@ GFMD_API int32_t gfmd_relax(gfmd_sim *s, double tol, int64_t max_steps, int64_t 
  * @p levels - 1 times by 2 (nx/2^k x ny/2^k points, same cell; the substrate and the current
  * surface filtered to each grid by dropping the modes it cannot hold; the solver the handle's
  * setting gives on that grid), each coarse surface interpolated to the next finer grid (zero-padded
- * spectrum, then lifted onto the substrate where it would penetrate), and relaxed there in turn, to
+ * spectrum, then lifted onto the substrate where it would penetrate), and relaxed there in turn
+ * (GFMD_SOLVER_AUTO chooses again for that deformed start, as for a load that continues: from
+ * 2048^2 on, a layer on a fluid foundation without adhesion takes the approach then FIRE there,
+ * not the CG of a flat start; a failed call restores the solver of its start), to
  * the same tol and at most @p max_steps steps per grid; then this grid as gfmd_relax() does.  The
  * long waves relax where steps are cheap; measured, that saves 14-24 % of a thin sheet's time
  * from flat with FIRE and 3 % with mass-weighted FIRE (docs/performance.md): the steps a soft

@@ -313,7 +313,12 @@ constexpr double kAutoCgBound = 4e4;
 // surface takes the approach then FIRE (GFMD_SOLVER_MASS_FIRE); a flat surface (a first load)
 // takes CG at every size.  Measured with the rule (five bodies of --full, full.md): W = 100,
 // 0.25, 0.125, 0.0625 0.42-0.92x the all-CG seconds, but W = 1 1.5x (its high loads are CG's):
-// the middle widths lose; a rule that keeps them on CG is open.
+// the middle widths lose; a rule that keeps them on CG is open.  The grids of a multilevel start
+// above the coarsest start from an interpolated, deformed surface: relax_multilevel chooses again
+// for them (until then a first load's CG, chosen for the flat surface, ran on every grid: in the
+// default --full run of 2026-11-25 the thin sheets' multilevel first loads, W = 0.088-0.044, took
+// 3.6-4.5x the seconds of the all-FIRE ones of the 5205.9 s run, where the continuing loads took
+// 2.2-2.8x, same steps, on that slower instance; docs/paper/full.md).
 constexpr double kAutoContinueFirePoints = 2048.0 * 2048.0;
 // With adhesion (CG minimizes the quadratic problem only), at most 100 mass-weighted FIRE steps
 // after each restart, then FIRE (GFMD_SOLVER_MASS_FIRE), where the longest wave is much softer
@@ -508,8 +513,34 @@ bool Simulation::relax_multilevel(double tol, int64_t max_steps, int levels, int
     fields_.lift_at_rest(grid_);
     apply_control();
     refresh_forces();
-    solver_->restart(dynamics_);
-    return relax_from(tol, max_steps, steps_taken, &solver_state);
+    // This grid now starts from a deformed surface, not the one the solver was chosen for: the
+    // default chooses again (resolve_solver: from 2048^2 on, a layer on a fluid foundation without
+    // adhesion takes the approach then FIRE there instead of the CG of a flat start).  The call's
+    // solver is kept, so that a failure restores it with its state.
+    const int32_t call_kind = active_solver_;
+    const int32_t kind = resolve_solver(params_.solver);
+    if (kind == call_kind) {
+        solver_->restart(dynamics_);
+        return relax_from(tol, max_steps, steps_taken, &solver_state);
+    }
+    std::unique_ptr<Solver> call_solver;
+    try {
+        call_solver = std::exchange(solver_, make_solver(kind, grid_, dynamics_));  // restarted
+    } catch (...) {  // std::bad_alloc: nothing changed but the surface, restored
+        undo_.restore(fields_);
+        refresh_forces();
+        throw;
+    }
+    active_solver_ = kind;
+    try {
+        const std::vector<double> fresh = solver_->state();
+        return relax_from(tol, max_steps, steps_taken, &fresh);
+    } catch (...) {  // diverged: the surface is restored; the solver too
+        solver_ = std::move(call_solver);
+        active_solver_ = call_kind;
+        solver_->set_state(solver_state);
+        throw;
+    }
 }
 
 double Simulation::contact_area() const { return gfmd::contact_area(grid_, forces_); }

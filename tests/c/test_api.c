@@ -297,7 +297,8 @@ static void automatic_choice(void **state) {
 
 /* From 2048^2 on, a layer on a fluid foundation without adhesion takes CG for a load that starts
  * from a flat surface and the approach then FIRE for one that continues from a deformed surface
- * (the rule of gfmd_set_solver(), measured in docs/paper/full.md); at 1024^2 CG either way.  A
+ * (the rule of gfmd_set_solver(), measured in docs/paper/full.md); at 1024^2 CG either way.  The
+ * same for the finest grid of a multilevel start, which starts from an interpolated surface.  A
  * 2048^2 grid costs tens of seconds under valgrind: natively and under the sanitizers only. */
 static void automatic_choice_when_continuing(void **state) {
     (void)state;
@@ -328,6 +329,38 @@ static void automatic_choice_when_continuing(void **state) {
         TS_OK(s, gfmd_reset(s)); /* flat again */
         TS_OK(s, gfmd_get_solver(s, &solver));
         assert_int_equal(solver, GFMD_SOLVER_CG);
+        /* A multilevel start: this grid starts from the coarse surface interpolated to it, a
+         * deformed surface, and the default chooses for that start as for a load that continues.
+         * A thick layer at a pressure well below full contact (pi E* 0.5/wavelength >= 0.003):
+         * the thin one above is in full contact, which every solver reaches at once. */
+        TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 1e6));
+        TS_OK(s, gfmd_set_pressure(s, 1e-3));
+        int64_t steps = 0, coarse = 0;
+        assert_int_equal(gfmd_relax_multilevel(s, 0.0, 3, 2, &steps, &coarse), GFMD_ERR_NOT_CONVERGED);
+        assert_int_equal(steps, 3);
+        TS_OK(s, gfmd_get_solver(s, &solver));
+        assert_int_equal(solver, n >= 2048 ? GFMD_SOLVER_MASS_FIRE : GFMD_SOLVER_CG);
+        /* A call that fails after that choice restores the call's solver with the surface: FIRE
+         * with a time step of 1e200 overflows at its first step on the finest grid (50 times the
+         * automatic one does not: FIRE backs off; the approach's mass-weighted steps have a step of
+         * their own, and the coarse grid's CG none).  The approach's 100 steps of two FFT pairs
+         * at 2048^2 cost 20 s: natively only. */
+#if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
+        if (n >= 2048) {
+            TS_OK(s, gfmd_reset(s));
+            double *z0 = malloc((size_t)(n * n) * sizeof *z0), *z1 = malloc((size_t)(n * n) * sizeof *z1);
+            assert_true(z0 != NULL && z1 != NULL);
+            TS_OK(s, gfmd_get_surface(s, z0));
+            TS_OK(s, gfmd_set_timestep(s, 1e200));
+            expect_failure(s, gfmd_relax_multilevel(s, 0.0, 101, 2, &steps, &coarse), GFMD_ERR_DIVERGED, "dt = 1e200");
+            TS_OK(s, gfmd_get_solver(s, &solver));
+            assert_int_equal(solver, GFMD_SOLVER_CG);
+            TS_OK(s, gfmd_get_surface(s, z1));
+            assert_memory_equal(z0, z1, (size_t)(n * n) * sizeof *z0);
+            free(z0);
+            free(z1);
+        }
+#endif
         gfmd_sim_destroy(&s);
     }
 }
