@@ -362,11 +362,13 @@ bool Simulation::surface_flat() const {
     return !(m[0] + m[1] > 0.0);
 }
 
-void Simulation::follow_auto_choice() {
+std::unique_ptr<Solver> Simulation::follow_auto_choice() {
     const int32_t kind = resolve_solver(params_.solver);
-    if (kind == active_solver_) return;
-    solver_ = make_solver(kind, grid_, dynamics_);  // may throw std::bad_alloc (CG's 16 B/pt)
+    if (kind == active_solver_) return nullptr;
+    // make_solver may throw std::bad_alloc (CG's 16 B/pt): then nothing changed
+    std::unique_ptr<Solver> replaced = std::exchange(solver_, make_solver(kind, grid_, dynamics_));
     active_solver_ = kind;
+    return replaced;
 }
 
 void Simulation::set_solver(int32_t solver) {
@@ -514,26 +516,24 @@ bool Simulation::relax_multilevel(double tol, int64_t max_steps, int levels, int
     apply_control();
     refresh_forces();
     // This grid now starts from a deformed surface, not the one the solver was chosen for: the
-    // default chooses again (resolve_solver: from 2048^2 on, a layer on a fluid foundation without
-    // adhesion takes the approach then FIRE there instead of the CG of a flat start).  The call's
-    // solver is kept, so that a failure restores it with its state.
+    // default chooses again (from 2048^2 on, a layer on a fluid foundation without adhesion takes
+    // the approach then FIRE there instead of the CG of a flat start).  The call's solver is kept,
+    // so that a failure restores it with its state.
     const int32_t call_kind = active_solver_;
-    const int32_t kind = resolve_solver(params_.solver);
-    if (kind == call_kind) {
-        solver_->restart(dynamics_);
-        return relax_from(tol, max_steps, steps_taken, &solver_state);
-    }
     std::unique_ptr<Solver> call_solver;
     try {
-        call_solver = std::exchange(solver_, make_solver(kind, grid_, dynamics_));  // restarted
+        call_solver = follow_auto_choice();
     } catch (...) {  // std::bad_alloc: nothing changed but the surface, restored
         undo_.restore(fields_);
         refresh_forces();
         throw;
     }
-    active_solver_ = kind;
+    if (!call_solver) {
+        solver_->restart(dynamics_);
+        return relax_from(tol, max_steps, steps_taken, &solver_state);
+    }
     try {
-        const std::vector<double> fresh = solver_->state();
+        const std::vector<double> fresh = solver_->state();  // a new solver: restarted
         return relax_from(tol, max_steps, steps_taken, &fresh);
     } catch (...) {  // diverged: the surface is restored; the solver too
         solver_ = std::move(call_solver);
