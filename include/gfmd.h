@@ -344,8 +344,8 @@ GFMD_API int32_t gfmd_relax(gfmd_sim *s, double tol, int64_t max_steps, int64_t 
  * long waves relax where steps are cheap; measured, that saves 14-24 % of a thin sheet's time
  * from flat with FIRE and 3 % with mass-weighted FIRE (docs/performance.md): the steps a soft
  * sheet needs are mostly those of its contact-scale modes.  levels = 1 is gfmd_relax().  An
- * adhesive body with several equilibria may end in another one than from flat (measured: 2048^2,
- * a thin adhesive sheet, A/A0 1.5e-4 apart at tol 1e-9; docs/performance.md).
+ * adhesive body with several equilibria may end in another one than from flat (a thin adhesive
+ * sheet at 2048^2: docs/performance.md).
  * @p steps_taken (may be NULL) receives this grid's steps, @p coarse_steps (may be NULL) those of
  * all coarser grids together.  GFMD_ERR_INVALID_ARG, nothing
  * changed, unless levels >= 1 and nx, ny are divisible by 2^(levels-1) with at least 8 points a
