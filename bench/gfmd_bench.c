@@ -13,7 +13,7 @@
  *                                and the default's choice
  *   gfmd_bench --multilevel [--sizes 256] [--widths 0.0625,0.125] [--sigma0 S] [--solver fire|mass]
  *                                gfmd_relax_multilevel with 1-4 levels from flat, to 1e-10
- *   gfmd_bench --first-load [--sizes 512,1024,2048] [--widths 0.0625,0.25] [--threads N]
+ *   gfmd_bench --first-load [--sizes 512,1024,2048] [--widths 0.0625,0.25] [--threads N] [--levels L] [--tol T]
  *                                a thin sheet's first load from flat, with and without adhesion,
  *                                by the default solver, mass-weighted FIRE and the multilevel start
  *   gfmd_bench --big [--sigma0 S] [--threads 2] [--sizes 4096]
@@ -285,15 +285,19 @@ static double persson_load(gfmd_sim *s, double area) {
 
 /* --first-load: a thin sheet's first load from flat (the study's first load: Persson's A/A0 =
  * 0.004), without and with adhesion (gamma0 = 5e-4, rho = a), before and after each lever the
- * library has: FIRE (before), mass-weighted FIRE, the multilevel start (3 levels, the default
- * solver on each grid), and the default solver (on thin sheets the preconditioned CG without
+ * library has: FIRE (before), mass-weighted FIRE, the multilevel start (--levels, 3 unless given;
+ * the default solver on each grid), and the default solver (on thin sheets the preconditioned CG without
  * adhesion, the mass-weighted approach then FIRE, GFMD_SOLVER_MASS_FIRE, with).  Steps and seconds to the default tolerance, and (chunks of 5
- * steps) until A/A0 stays within 0.1 % of the run's final value.  Mass-weighted FIRE is not run
+ * steps) until A/A0 stays within 0.1 % of the run's final value; with --tol T every lever relaxes to
+ * T instead and A/A0 is printed to 8 digits.  Mass-weighted FIRE is not run
  * with adhesion beyond 20 000 steps. */
-static int first_load_table(const double *sizes, int nsizes, const double *widths, int nwidths, int threads) {
+static int first_load_table(const double *sizes, int nsizes, const double *widths, int nwidths, int threads,
+                            int levels, double tol) {
+    const int digits = tol > 0.0 ? 8 : 5;
+    if (!(tol > 0.0)) tol = GFMD_DEFAULT_TOL;
     printf("gfmd %s: a thin sheet's first load from flat (Persson A/A0 = 0.004), fluid foundation (w = 4 W a), "
-           "H = 0.8, lambda_s = 4a, lambda_r = n a/8, g = 1, seed 2016, %d thread(s), default tol %.0e\n",
-           gfmd_version(), threads, GFMD_DEFAULT_TOL);
+           "H = 0.8, lambda_s = 4a, lambda_r = n a/8, g = 1, seed 2016, %d thread(s), tol %.0e\n",
+           gfmd_version(), threads, tol);
     printf("%5s %7s %4s %-13s | %8s | %7s %8s | %7s %8s\n", "n", "W", "adh", "lever", "A/A0", "steps", "s", "to 0.1%",
            "s");
     for (int a = 0; a < nsizes; ++a)
@@ -316,7 +320,7 @@ static int first_load_table(const double *sizes, int nsizes, const double *width
                     gfmd_get_solver(s, &active);
                     if (lever == 2) {
                         int64_t coarse = 0;
-                        st = gfmd_relax_multilevel(s, 0.0, 10000000, 3, &steps, &coarse);
+                        st = gfmd_relax_multilevel(s, tol, 10000000, levels, &steps, &coarse);
                         if (st != GFMD_OK) die(s, st, "relax_multilevel");
                         steps += coarse; /* coarse steps are cheaper, counted all the same */
                         gfmd_get_contact_area(s, &area);
@@ -325,7 +329,7 @@ static int first_load_table(const double *sizes, int nsizes, const double *width
                         int64_t k = 0, cap = 1 << 14;
                         double *trace = malloc(sizeof(double) * 2 * (size_t)cap);
                         const int64_t limit = (adh && lever == 1) ? 20000 : 4000000;
-                        while (residual > GFMD_DEFAULT_TOL && steps < limit) {
+                        while (residual > tol && steps < limit) {
                             if ((st = gfmd_step(s, 5)) != GFMD_OK) die(s, st, "step");
                             steps += 5;
                             if (k == cap) trace = realloc(trace, sizeof(double) * 2 * (size_t)(cap *= 2));
@@ -348,12 +352,13 @@ static int first_load_table(const double *sizes, int nsizes, const double *width
                         snprintf(acc_steps, sizeof acc_steps, "%lld", (long long)steps_acc);
                         snprintf(acc_s, sizeof acc_s, "%.2f", t_acc);
                     }
-                    if (residual > GFMD_DEFAULT_TOL && lever != 2) snprintf(total, sizeof total, ">%lld", (long long)steps);
+                    if (residual > tol && lever != 2) snprintf(total, sizeof total, ">%lld", (long long)steps);
                     else snprintf(total, sizeof total, "%lld", (long long)steps);
                     char what[32];
-                    snprintf(what, sizeof what, "%s%s", lever == 2 ? "ml3+" : "", solver_name(active));
-                    printf("%5d %7g %4s %-13s | %8.5f | %7s %8.2f | %7s %8s\n", n, widths[b], adh ? "yes" : "no", what,
-                           area, total, t, acc_steps, acc_s);
+                    if (lever == 2) snprintf(what, sizeof what, "ml%d+%s", levels, solver_name(active));
+                    else snprintf(what, sizeof what, "%s", solver_name(active));
+                    printf("%5d %7g %4s %-13s | %8.*f | %7s %8.2f | %7s %8s\n", n, widths[b], adh ? "yes" : "no", what,
+                           digits, area, total, t, acc_steps, acc_s);
                     fflush(stdout);
                     gfmd_sim_destroy(&s);
                 }
@@ -428,12 +433,15 @@ int main(int argc, char **argv) {
     int nsizes = 4, nwidths = 4, threads = 1, cg = 1, alt = 1, contention = 0, multilevel = 0, nloads = 0, big = 0,
         first_load = 0, threads_given = 0, sizes_given = 0, widths_given = 0, sigma0_given = 0;
     double loads[8];
-    double cg_seconds = 120.0, sigma0 = 0.05, bonded_nu = NAN;
+    double cg_seconds = 120.0, sigma0 = 0.05, bonded_nu = NAN, first_tol = 0.0;
+    int levels = 3;
     int32_t solver = GFMD_SOLVER_AUTO;
     for (int i = 1; i < argc; ++i) {
         if (!strcmp(argv[i], "--sizes") && i + 1 < argc) nsizes = parse_list(argv[++i], sizes, 7), sizes_given = 1;
         else if (!strcmp(argv[i], "--big")) big = 1;
         else if (!strcmp(argv[i], "--first-load")) first_load = 1;
+        else if (!strcmp(argv[i], "--levels") && i + 1 < argc) levels = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--tol") && i + 1 < argc) first_tol = atof(argv[++i]), first_tol = first_tol > 0.0 ? first_tol : -1.0;
         else if (!strcmp(argv[i], "--widths") && i + 1 < argc) nwidths = parse_list(argv[++i], widths, 8), widths_given = 1;
         else if (!strcmp(argv[i], "--threads") && i + 1 < argc) threads = atoi(argv[++i]), threads_given = 1;
         else if (!strcmp(argv[i], "--cg-seconds") && i + 1 < argc) cg_seconds = atof(argv[++i]);
@@ -451,10 +459,10 @@ int main(int argc, char **argv) {
                    : !strcmp(argv[i], "auto") ? GFMD_SOLVER_AUTO : !strcmp(argv[i], "mass+fire") ? GFMD_SOLVER_MASS_FIRE : -1;
         } else
             solver = -1;
-        if (solver < 0 || !(sigma0 > 0.0)) {
+        if (solver < 0 || !(sigma0 > 0.0) || levels < 1 || first_tol < 0.0) {
             fprintf(stderr, "usage: %s [--sizes 256,512,...] [--big] [--widths 0,0.5,1,4] [--threads N] "
                             "[--cg-seconds S] [--no-cg] [--no-alt] [--sigma0 S] [--solver auto|fire|mass|mass+fire|verlet|cg] "
-                            "[--bonded NU] | --contention | --loads L,.. | --multilevel | --first-load | --big\n", argv[0]);
+                            "[--bonded NU] | --contention | --loads L,.. | --multilevel | --first-load [--levels L] [--tol T] | --big\n", argv[0]);
             return 2;
         }
     }
@@ -468,7 +476,7 @@ int main(int argc, char **argv) {
     if (first_load) {
         const double thin[2] = {0.0625, 0.25}, first_sizes[3] = {512, 1024, 2048};
         return first_load_table(sizes_given ? sizes : first_sizes, sizes_given ? nsizes : 3, widths_given ? widths : thin,
-                                widths_given ? nwidths : 2, threads < 1 ? 1 : threads);
+                                widths_given ? nwidths : 2, threads < 1 ? 1 : threads, levels, first_tol);
     }
     if (nloads > 0) return loads_table(sizes, nsizes, widths, nwidths, loads, nloads);
     if (multilevel) return multilevel_table(sizes, nsizes, widths, nwidths, sigma0, solver);
