@@ -6,7 +6,7 @@ find_package(MPI REQUIRED COMPONENTS C CXX)
 find_library(FFTW3_MPI_LIBRARY NAMES fftw3_mpi HINTS ${FFTW3_LIBRARY_DIRS} REQUIRED)
 find_path(FFTW3_MPI_INCLUDE_DIR fftw3-mpi.h HINTS ${FFTW3_INCLUDE_DIRS} REQUIRED)
 
-add_library(gfmd_mpi ${GFMD_CORE_SOURCES} src/mpi/fft_grid_mpi.cpp src/mpi/c_api_mpi.cpp src/mpi/checkpoint_mpi.cpp)
+add_library(gfmd_mpi ${GFMD_CORE_SOURCES} ${GFMD_KERNEL_OBJECTS} src/mpi/fft_grid_mpi.cpp src/mpi/c_api_mpi.cpp src/mpi/checkpoint_mpi.cpp)
 add_library(gfmd::mpi ALIAS gfmd_mpi)
 target_compile_definitions(gfmd_mpi PRIVATE GFMD_MPI)
 set_target_properties(gfmd_mpi PROPERTIES

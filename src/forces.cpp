@@ -4,54 +4,9 @@
 #include <cmath>
 #include <complex>
 
+#include "kernels.hpp"
+
 namespace gfmd {
-
-namespace {
-
-struct CompletionInputs {
-    const double *z, *h, *v;
-    double sigma0, adh_coef, inv_rho, inv_ref;
-};
-
-// One block of the real-space completion: f <- f - sigma0 - adhesion, and the block's sums
-// (adhesive weight, |F|^2, F.v, |v|^2, the scaled residual, the points in contact).  A function of
-// its own with restrict pointers and local sums, so that GCC vectorizes it (through the lambda's
-// captured references it kept reloading the pointers and left the loop scalar); the SIMD lanes
-// split the block's sums in a fixed order, so results stay independent of the thread count.
-template <bool Adhesive>
-void complete_block(const CompletionInputs &in, double *__restrict f, int64_t n, double *acc) {
-    const double *__restrict z = in.z, *__restrict h = in.h, *__restrict v = in.v;
-    const double sigma0 = in.sigma0, adh_coef = in.adh_coef, inv_rho = in.inv_rho, inv_ref = in.inv_ref;
-    double adh_sum = 0.0, res2 = 0.0, power = 0.0, v2 = 0.0, rel2 = 0.0, touching = 0.0;
-#pragma omp simd reduction(+ : adh_sum, res2, power, v2, rel2, touching)
-    for (int64_t i = 0; i < n; ++i) {
-        const double g = z[i] - h[i];
-        double fi = f[i] - sigma0;
-        if constexpr (Adhesive) {
-            const double w = std::exp(-g * inv_rho);
-            adh_sum += w;
-            fi -= adh_coef * w;
-        }
-        f[i] = fi;
-        const bool contact = g <= 0.0;
-        touching += contact ? 1.0 : 0.0;
-        const double pull = fi > 0.0 ? fi : 0.0;
-        const double r = contact ? pull : fi;  // in contact only pulling away counts
-        const double rs = r * inv_ref;        // the residual, scaled first: no overflow
-        res2 += r * r;
-        rel2 += rs * rs;
-        power += r * v[i];
-        v2 += v[i] * v[i];
-    }
-    acc[0] += adh_sum;
-    acc[1] += res2;
-    acc[2] += power;
-    acc[3] += v2;
-    acc[4] += rel2;
-    acc[5] += touching;
-}
-
-}  // namespace
 
 ForceState evaluate_forces(const FftGrid &grid, const Params &p, const Body &body, Fields &fields) {
     ForceState out;
@@ -64,19 +19,7 @@ ForceState evaluate_forces(const FftGrid &grid, const Params &p, const Body &bod
     std::complex<double> *work = fields.work.data();
     const double *stiff = body.stiffness.data();
     const auto energy = grid.sum_mode_rows<1>([&](int64_t y0, int64_t y1, double *acc) {
-        for (int64_t r = y0; r < y1; ++r) {  // local mode rows
-            std::complex<double> *row = work + r * nxh;
-            const double *krow = stiff + r * nxh;
-            // column 0 (and a Nyquist column) count once in the full-plane sum, the others twice
-            double e = krow[0] * std::norm(row[0]);
-            if (nxh > 1) e += (w_last - 2.0) * krow[nxh - 1] * std::norm(row[nxh - 1]);
-            row[0] *= -krow[0] * inv_n;
-            for (int64_t kx = 1; kx < nxh; ++kx) {
-                e += 2.0 * krow[kx] * std::norm(row[kx]);
-                row[kx] *= -krow[kx] * inv_n;
-            }
-            acc[0] += e;
-        }
+        acc[0] += kernels::apply_stiffness(work, stiff, y0, y1, nxh, inv_n, w_last);
     });
     out.u_el = 0.5 * grid.cell_area() * energy[0] * inv_n * inv_n;
     grid.backward(fields.work.data(), fields.f.data());
@@ -116,12 +59,9 @@ ForceState evaluate_forces(const FftGrid &grid, const Params &p, const Body &bod
     if (ref <= 0.0) ref = p.e_star;
     const double inv_ref = 1.0 / ref;
     const auto sums = grid.sum_points<6>([&](int64_t i0, int64_t i1, double *acc) {
-        const CompletionInputs in{fields.z.data() + i0, fields.h.data() + i0, fields.v.data() + i0, sigma0,
-                                  adh_coef, inv_rho, inv_ref};
-        if (adhesive)
-            complete_block<true>(in, fields.f.data() + i0, i1 - i0, acc);
-        else
-            complete_block<false>(in, fields.f.data() + i0, i1 - i0, acc);
+        const kernels::Completion in{fields.z.data() + i0, fields.h.data() + i0, fields.v.data() + i0, sigma0,
+                                     adh_coef, inv_rho, inv_ref, adhesive};
+        kernels::complete_forces(in, fields.f.data() + i0, i1 - i0, acc);
     });
     out.contacts = static_cast<int64_t>(sums[5]);
     out.u_ad = p.gamma0 * grid.area_per_point() * sums[0];

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "../kernels.hpp"
+
 namespace gfmd {
 
 void Fire::advance(StepContext &c) {
@@ -21,24 +23,10 @@ void Fire::advance(StepContext &c) {
     const double keep = 1.0 - control_.alpha;
     // Uphill: step back half a step (FIRE 2.0), then restart from rest.
     const double back = uphill ? 0.5 * dt : 0.0;
-    double *__restrict z = c.fields.z.data(), *__restrict v = c.fields.v.data();
-    const double *__restrict h = c.fields.h.data(), *__restrict f = c.fields.f.data();
-    c.grid.for_points([&](int64_t i0, int64_t i1) {
-        // Branch-free (selects), so that scattered contact points cost no mispredictions and
-        // the loop vectorizes.
-#pragma omp simd
-        for (int64_t i = i0; i < i1; ++i) {
-            const double zo = z[i], vo = v[i], hi = h[i], fo = f[i];
-            const double fi = (zo <= hi) ? std::max(fo, 0.0) : fo;
-            double vi = uphill ? 0.0 : vo;
-            vi += dt * fi;
-            vi = keep * vi + mix * fi;
-            const double zn = zo - back * vo + dt * vi;
-            const bool hit = zn < hi;  // the wall stops a point that reaches it
-            v[i] = hit ? 0.0 : vi;
-            z[i] = hit ? hi : zn;
-        }
-    });
+    const kernels::FireUpdate u{dt, keep, mix, back, uphill};
+    double *z = c.fields.z.data(), *v = c.fields.v.data();
+    const double *h = c.fields.h.data(), *f = c.fields.f.data();
+    c.grid.for_points([&](int64_t i0, int64_t i1) { kernels::fire_update(u, z + i0, v + i0, h + i0, f + i0, i1 - i0); });
 }
 
 }  // namespace gfmd

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <complex>
 
+#include "../kernels.hpp"
+
 namespace gfmd {
 
 namespace {
@@ -71,15 +73,7 @@ void FireMass::advance(StepContext &c) {
     double *z = c.fields.z.data(), *v = c.fields.v.data(), *a = c.fields.f.data();
     const double *h = c.fields.h.data();
     unsigned char *held = held_.data();
-    grid.for_points([&](int64_t i0, int64_t i1) {
-#pragma omp simd
-        for (int64_t i = i0; i < i1; ++i) {
-            const double fo = a[i];
-            const bool contact = z[i] <= h[i];
-            held[i] = (contact && fo <= 0.0) ? 1 : 0;
-            a[i] = contact ? std::max(fo, 0.0) : fo;
-        }
-    });
+    grid.for_points([&](int64_t i0, int64_t i1) { kernels::mark_held(z + i0, h + i0, a + i0, held + i0, i1 - i0); });
     grid.forward(a, c.fields.work.data());
     const int64_t nxh = grid.nxh();
     const double inv_n = 1.0 / static_cast<double>(grid.real_size()), floor = floor_;
@@ -104,17 +98,9 @@ void FireMass::advance(StepContext &c) {
     const double mix = (a_norm > 0.0 && !uphill) ? control_.alpha * std::sqrt(c.forces.v_norm2) / a_norm : 0.0;
     const double keep = uphill ? 0.0 : 1.0 - control_.alpha;
     const double back = uphill ? 0.5 * dt : 0.0;
+    const kernels::MassUpdate u{dt, keep, mix + dt, back};
     grid.for_points([&](int64_t i0, int64_t i1) {
-#pragma omp simd
-        for (int64_t i = i0; i < i1; ++i) {  // branch-free, as in Fire::advance()
-            const double zo = z[i], vo = v[i], hi = h[i], ao = a[i];
-            const double ai = held[i] ? 0.0 : ao;
-            const double vi = keep * vo + (mix + dt) * ai;
-            const double zn = zo - back * vo + dt * vi;
-            const bool hit = zn < hi;
-            v[i] = hit ? 0.0 : vi;
-            z[i] = hit ? hi : zn;
-        }
+        kernels::mass_update(u, z + i0, v + i0, h + i0, a + i0, held + i0, i1 - i0);
     });
 }
 

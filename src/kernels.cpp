@@ -1,0 +1,186 @@
+#include "kernels.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+// Built as gfmd::kernels_base, and where the compiler can, once more with -march=x86-64-v3 as
+// gfmd::kernels_v3 (GFMD_KERNELS_NS; CMakeLists.txt).
+#ifndef GFMD_KERNELS_NS
+#define GFMD_KERNELS_NS kernels_base
+#endif
+
+namespace gfmd {
+namespace GFMD_KERNELS_NS {
+
+using kernels::Completion;
+using kernels::FireUpdate;
+using kernels::kLanes;
+using kernels::MassUpdate;
+
+namespace {
+
+// Four doubles as one value (GCC's vector extension): each operation is the IEEE operation on
+// every element, in one AVX register or two SSE2 ones, so the lanes' arithmetic and hence the bits
+// are the same for every instruction set.
+typedef double Quad __attribute__((vector_size(32)));
+typedef long long QuadMask __attribute__((vector_size(32)));
+
+inline __attribute__((always_inline)) Quad load(const double *p) {
+    Quad x;
+    __builtin_memcpy(&x, p, sizeof x);
+    return x;
+}
+inline __attribute__((always_inline)) void store(double *p, Quad x) { __builtin_memcpy(p, &x, sizeof x); }
+
+// x where the mask is set, +0 elsewhere; blend: x where it is set, y elsewhere
+inline __attribute__((always_inline)) Quad select(QuadMask mask, Quad x) {
+    return reinterpret_cast<Quad>(reinterpret_cast<QuadMask>(x) & mask);
+}
+inline __attribute__((always_inline)) Quad blend(QuadMask mask, Quad x, Quad y) {
+    return reinterpret_cast<Quad>((reinterpret_cast<QuadMask>(x) & mask) | (reinterpret_cast<QuadMask>(y) & ~mask));
+}
+
+struct CompletionSums {
+    Quad adh, f2, power, v2, rel2, touching;
+};
+
+// Points i .. i + 3 of the completion, their terms added to the sums (the lanes of one Quad).
+template <bool Adhesive>
+inline __attribute__((always_inline)) void complete_quad(const Completion &in, const double *z, const double *h,
+                                                        const double *v, double *f, CompletionSums &s) {
+    const Quad one = Quad{} + 1.0;
+    const Quad g = load(z) - load(h);
+    Quad fi = load(f) - in.sigma0;
+    if constexpr (Adhesive) {
+        double w[4];
+        for (int l = 0; l < 4; ++l) w[l] = std::exp(-g[l] * in.inv_rho);
+        const Quad wq = load(w);
+        s.adh += wq;
+        fi -= in.adh_coef * wq;
+    }
+    store(f, fi);
+    // selects as bit masks (SSE2 has no blend instruction; GCC's lowering of ?: to it is slow)
+    const QuadMask contact = g <= 0.0;
+    s.touching += select(contact, one);
+    const Quad pull = select(fi > 0.0, fi);
+    const Quad r = blend(contact, pull, fi);  // in contact only pulling away counts
+    const Quad rs = r * in.inv_ref;      // the residual, scaled first: no overflow
+    const Quad vq = load(v);
+    s.f2 += r * r;
+    s.rel2 += rs * rs;
+    s.power += r * vq;
+    s.v2 += vq * vq;
+}
+
+// kLanes = 8 lanes as two Quads: lane l takes the points l, l + 8, ... in order.  The last
+// n mod 8 points go through the same arithmetic from a padded copy whose extra points add nothing
+// (infinite gap: no adhesion, no contact; zero force and velocity).
+template <bool Adhesive>
+inline __attribute__((always_inline)) void complete(const Completion &in, double *f, int64_t n, double *acc) {
+    static_assert(kLanes == 8, "two Quads");
+    CompletionSums a{}, b{};
+    int64_t i = 0;
+    for (; i + kLanes <= n; i += kLanes) {
+        complete_quad<Adhesive>(in, in.z + i, in.h + i, in.v + i, f + i, a);
+        complete_quad<Adhesive>(in, in.z + i + 4, in.h + i + 4, in.v + i + 4, f + i + 4, b);
+    }
+    if (i < n) {
+        double z[kLanes], h[kLanes], v[kLanes], ft[kLanes];
+        for (int l = 0; l < kLanes; ++l) {
+            const bool real = i + l < n;
+            z[l] = real ? in.z[i + l] : HUGE_VAL;
+            h[l] = real ? in.h[i + l] : 0.0;
+            v[l] = real ? in.v[i + l] : 0.0;
+            ft[l] = real ? f[i + l] : in.sigma0;
+        }
+        complete_quad<Adhesive>(in, z, h, v, ft, a);
+        complete_quad<Adhesive>(in, z + 4, h + 4, v + 4, ft + 4, b);
+        for (int l = 0; i + l < n; ++l) f[i + l] = ft[l];
+    }
+    const Quad *qa[6] = {&a.adh, &a.f2, &a.power, &a.v2, &a.rel2, &a.touching};
+    const Quad *qb[6] = {&b.adh, &b.f2, &b.power, &b.v2, &b.rel2, &b.touching};
+    for (int k = 0; k < 6; ++k) {
+        double t = 0.0;
+        for (int l = 0; l < 4; ++l) t += (*qa[k])[l];
+        for (int l = 0; l < 4; ++l) t += (*qb[k])[l];
+        acc[k] += t;
+    }
+}
+
+}  // namespace
+
+void complete_forces(const Completion &in, double *f, int64_t n, double *acc) {
+    if (in.adhesive)
+        complete<true>(in, f, n, acc);
+    else
+        complete<false>(in, f, n, acc);
+}
+
+double apply_stiffness(std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1,
+                                   int64_t nxh, double inv_n, double w_last) {
+    double energy = 0.0;
+    for (int64_t r = r0; r < r1; ++r) {
+        std::complex<double> *row = work + r * nxh;
+        const double *krow = stiff + r * nxh;
+        // column 0 (and a Nyquist column) count once in the full-plane sum, the others twice
+        double e = krow[0] * std::norm(row[0]);
+        if (nxh > 1) e += (w_last - 2.0) * krow[nxh - 1] * std::norm(row[nxh - 1]);
+        row[0] *= -krow[0] * inv_n;
+        for (int64_t kx = 1; kx < nxh; ++kx) {
+            e += 2.0 * krow[kx] * std::norm(row[kx]);
+            row[kx] *= -krow[kx] * inv_n;
+        }
+        energy += e;
+    }
+    return energy;
+}
+
+void fire_update(const FireUpdate &u, double *__restrict z, double *__restrict v,
+                             const double *__restrict h, const double *__restrict f, int64_t n) {
+    const double dt = u.dt, keep = u.keep, mix = u.mix, back = u.back;
+    const bool uphill = u.uphill;
+    // Branch-free (selects), so that scattered contact points cost no mispredictions and the loop
+    // vectorizes.
+#pragma omp simd
+    for (int64_t i = 0; i < n; ++i) {
+        const double zo = z[i], vo = v[i], hi = h[i], fo = f[i];
+        const double fi = (zo <= hi) ? std::max(fo, 0.0) : fo;
+        double vi = uphill ? 0.0 : vo;
+        vi += dt * fi;
+        vi = keep * vi + mix * fi;
+        const double zn = zo - back * vo + dt * vi;
+        const bool hit = zn < hi;  // the wall stops a point that reaches it
+        v[i] = hit ? 0.0 : vi;
+        z[i] = hit ? hi : zn;
+    }
+}
+
+void mark_held(const double *__restrict z, const double *__restrict h, double *__restrict f,
+                           unsigned char *__restrict held, int64_t n) {
+#pragma omp simd
+    for (int64_t i = 0; i < n; ++i) {
+        const double fo = f[i];
+        const bool contact = z[i] <= h[i];
+        held[i] = (contact && fo <= 0.0) ? 1 : 0;
+        f[i] = contact ? std::max(fo, 0.0) : fo;
+    }
+}
+
+void mass_update(const MassUpdate &u, double *__restrict z, double *__restrict v,
+                             const double *__restrict h, const double *__restrict a,
+                             const unsigned char *__restrict held, int64_t n) {
+    const double dt = u.dt, keep = u.keep, mix_dt = u.mix_dt, back = u.back;
+#pragma omp simd
+    for (int64_t i = 0; i < n; ++i) {  // branch-free, as fire_update()
+        const double zo = z[i], vo = v[i], hi = h[i], ao = a[i];
+        const double ai = held[i] ? 0.0 : ao;
+        const double vi = keep * vo + mix_dt * ai;
+        const double zn = zo - back * vo + dt * vi;
+        const bool hit = zn < hi;
+        v[i] = hit ? 0.0 : vi;
+        z[i] = hit ? hi : zn;
+    }
+}
+
+}  // namespace GFMD_KERNELS_NS
+}  // namespace gfmd

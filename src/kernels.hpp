@@ -1,0 +1,73 @@
+// The element-wise passes of a step (the force completion, the stiffness in Fourier space, the FIRE
+// updates).  On x86-64 with GCC they are compiled twice, for the baseline (SSE2, namespace
+// kernels_base) and for x86-64-v3 (AVX2, kernels_v3), and gfmd::kernels calls the ones the CPU
+// runs, chosen once per process (the environment variable GFMD_KERNELS=baseline forces the
+// baseline).  The passes are memory- and instruction-bound; at 2048² the completion takes about a
+// third of the time with AVX2 (docs/performance.md, "Per-step cost").
+//
+// Both builds give the same bits: kernels.cpp is compiled without floating-point contraction (no
+// FMA), and every sum is formed in kLanes fixed lanes (lane l takes the points l, l + kLanes, ... of
+// a block, in order; the lanes are then added in order) with GCC's vector extension, whatever the
+// vector width.  The sums so do not depend on the CPU, as they do not depend on the threads;
+// test_kernels compares both builds on every tail length, and trajectory_bits_baseline runs the
+// recorded trajectories with the baseline forced.
+#ifndef GFMD_SRC_KERNELS_HPP
+#define GFMD_SRC_KERNELS_HPP
+
+#include <complex>
+#include <cstdint>
+
+namespace gfmd {
+namespace kernels {
+
+constexpr int kLanes = 8;
+
+// The real-space force completion of points [0, n): f <- f - sigma0 - adh_coef exp(-(z-h) inv_rho)
+// (the exponential only if adhesive), and adds to acc[0..5]: the adhesive weight sum of
+// exp(-(z-h) inv_rho), |F|^2, F.v, |v|^2, |F inv_ref|^2 and the points in contact (z <= h), where
+// F is f projected on the wall (in contact only pulling away counts).
+struct Completion {
+    const double *z, *h, *v;
+    double sigma0, adh_coef, inv_rho, inv_ref;
+    bool adhesive;
+};
+// FIRE 2.0's update of points [0, n) with the wall (Fire::advance()).
+struct FireUpdate {
+    double dt, keep, mix, back;
+    bool uphill;
+};
+// Mass-weighted FIRE's update from the preconditioned acceleration a (FireMass::advance()).
+struct MassUpdate {
+    double dt, keep, mix_dt, back;
+};
+
+// What each build provides.  apply_stiffness: the elastic stress in Fourier space of mode rows
+// [r0, r1) of width nxh, row *= -k inv_n, returning the energy sum of k |Z|^2 over the full plane
+// (column 0 and a Nyquist column, weight w_last, once; the others twice), per row in column order,
+// the rows in order.  mark_held: marks the points the wall holds (in contact, pushed into it) and
+// projects the force on the wall.
+#define GFMD_KERNEL_DECLARATIONS                                                                               \
+    void complete_forces(const kernels::Completion &in, double *f, int64_t n, double *acc);                   \
+    double apply_stiffness(std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1, int64_t nxh, \
+                           double inv_n, double w_last);                                                       \
+    void fire_update(const kernels::FireUpdate &u, double *z, double *v, const double *h, const double *f,      \
+                     int64_t n);                                                                               \
+    void mark_held(const double *z, const double *h, double *f, unsigned char *held, int64_t n);              \
+    void mass_update(const kernels::MassUpdate &u, double *z, double *v, const double *h, const double *a,     \
+                     const unsigned char *held, int64_t n);
+
+GFMD_KERNEL_DECLARATIONS  // the dispatching ones
+const char *name();       // "x86-64-v3" or "baseline": the build in use
+
+}  // namespace kernels
+
+namespace kernels_base {
+GFMD_KERNEL_DECLARATIONS
+}
+namespace kernels_v3 {
+GFMD_KERNEL_DECLARATIONS
+}
+
+}  // namespace gfmd
+
+#endif

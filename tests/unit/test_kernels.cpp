@@ -1,0 +1,187 @@
+// The element-wise passes (src/kernels.hpp) of both builds against a plain scalar transcription of
+// their definition, and against each other, bit for bit: every length of a block's tail (0 .. 40
+// points, and whole blocks of 16384 and 16387), with and without adhesion, with points in
+// contact, on the wall and below it, and forces of both signs.  The scalar reference adds point i
+// to lane i mod 8 and the lanes in order (the sums' definition); it is compiled with the test's
+// own flags, so it also checks that no contraction or reassociation entered either build.
+//
+// The x86-64-v3 build is compared where the library has it and the CPU runs it; elsewhere the test
+// says so and checks the baseline alone.
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <random>
+#include <vector>
+
+#include "kernels.hpp"
+
+namespace {
+
+using gfmd::kernels::Completion;
+using gfmd::kernels::FireUpdate;
+using gfmd::kernels::kLanes;
+using gfmd::kernels::MassUpdate;
+
+int failures = 0;
+
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+void expect_same(const char *what, int64_t n, const double *a, const double *b, int64_t count) {
+    for (int64_t i = 0; i < count; ++i)
+        if (!same_bits(a[i], b[i])) {
+            std::printf("FAIL %s, n = %" PRId64 ", element %" PRId64 ": %a against %a\n", what, n, i, a[i], b[i]);
+            ++failures;
+            return;
+        }
+}
+
+// The completion's definition, one point at a time.
+void complete_reference(const Completion &in, double *f, int64_t n, double *acc) {
+    double lanes[6][kLanes] = {};
+    for (int64_t i = 0; i < n; ++i) {
+        const int l = static_cast<int>(i % kLanes);
+        const double g = in.z[i] - in.h[i];
+        double fi = f[i] - in.sigma0;
+        if (in.adhesive) {
+            const double w = std::exp(-g * in.inv_rho);
+            lanes[0][l] += w;
+            fi -= in.adh_coef * w;
+        }
+        f[i] = fi;
+        const bool contact = g <= 0.0;
+        lanes[5][l] += contact ? 1.0 : 0.0;
+        const double r = contact ? (fi > 0.0 ? fi : 0.0) : fi;
+        const double rs = r * in.inv_ref;
+        lanes[1][l] += r * r;
+        lanes[4][l] += rs * rs;
+        lanes[2][l] += r * in.v[i];
+        lanes[3][l] += in.v[i] * in.v[i];
+    }
+    for (int k = 0; k < 6; ++k) {
+        double t = 0.0;
+        for (int l = 0; l < kLanes; ++l) t += lanes[k][l];
+        acc[k] += t;
+    }
+}
+
+struct Data {
+    std::vector<double> z, h, v, f;
+    explicit Data(int64_t n, std::mt19937_64 &rng) : z(n), h(n), v(n), f(n) {
+        std::uniform_real_distribution<double> u(-1.0, 1.0);
+        for (int64_t i = 0; i < n; ++i) {
+            h[i] = u(rng);
+            const double kind = u(rng);  // a third on the wall, some below it, the rest above
+            z[i] = kind < -0.33 ? h[i] : (kind < -0.2 ? h[i] - 0.1 * std::fabs(u(rng)) : h[i] + std::fabs(u(rng)));
+            v[i] = 1e-3 * u(rng);
+            f[i] = 1e-2 * u(rng);
+        }
+    }
+};
+
+template <class Build>
+void run_build(const char *name, int64_t n, bool adhesive, const Data &d, std::vector<double> &f_out,
+               std::vector<double> &zv_out, double *acc, double &energy) {
+    Build b;
+    const Completion in{d.z.data(), d.h.data(), d.v.data(), 0.05, adhesive ? 5e-4 : 0.0, 1.0 / 0.7, 1.0 / 0.0505,
+                        adhesive};
+    f_out = d.f;
+    for (int k = 0; k < 6; ++k) acc[k] = 0.25;  // adds onto acc
+    b.complete_forces(in, f_out.data(), n, acc);
+    // the FIRE update (downhill, then uphill), the mass-weighted one
+    std::vector<double> z = d.z, v = d.v, a = d.f;
+    b.fire_update(FireUpdate{0.3, 0.9, 0.07, 0.0, false}, z.data(), v.data(), d.h.data(), d.f.data(), n);
+    b.fire_update(FireUpdate{0.15, 0.9, 0.0, 0.075, true}, z.data(), v.data(), d.h.data(), d.f.data(), n);
+    std::vector<unsigned char> held(static_cast<std::size_t>(n) + 1);
+    b.mark_held(z.data(), d.h.data(), a.data(), held.data(), n);
+    b.mass_update(MassUpdate{0.2, 0.8, 0.23, 0.1}, z.data(), v.data(), d.h.data(), a.data(), held.data(), n);
+    zv_out = z;
+    zv_out.insert(zv_out.end(), v.begin(), v.end());
+    zv_out.insert(zv_out.end(), a.begin(), a.end());
+    for (int64_t i = 0; i < n; ++i) zv_out.push_back(held[i]);
+    // Fourier space: the rows of a spectrum of n / 3 + 1 columns (odd and even widths)
+    const int64_t nxh = n / 3 + 1, rows = 3;
+    std::vector<std::complex<double>> work(static_cast<std::size_t>(nxh * rows));
+    std::vector<double> stiff(static_cast<std::size_t>(nxh * rows));
+    for (int64_t i = 0; i < nxh * rows; ++i) {
+        work[i] = {d.h[i % n], d.v[i % n]};
+        stiff[i] = 1.0 + std::fabs(d.z[i % n]);
+    }
+    energy = b.apply_stiffness(work.data(), stiff.data(), 0, rows, nxh, 1.0 / 7.0, (n % 2 == 0) ? 1.0 : 2.0);
+    for (const auto &w : work) {
+        zv_out.push_back(w.real());
+        zv_out.push_back(w.imag());
+    }
+    (void)name;
+}
+
+struct Base {
+    decltype(&gfmd::kernels_base::complete_forces) complete_forces = gfmd::kernels_base::complete_forces;
+    decltype(&gfmd::kernels_base::fire_update) fire_update = gfmd::kernels_base::fire_update;
+    decltype(&gfmd::kernels_base::mark_held) mark_held = gfmd::kernels_base::mark_held;
+    decltype(&gfmd::kernels_base::mass_update) mass_update = gfmd::kernels_base::mass_update;
+    decltype(&gfmd::kernels_base::apply_stiffness) apply_stiffness = gfmd::kernels_base::apply_stiffness;
+};
+#ifdef GFMD_KERNELS_V3
+struct V3 {
+    decltype(&gfmd::kernels_v3::complete_forces) complete_forces = gfmd::kernels_v3::complete_forces;
+    decltype(&gfmd::kernels_v3::fire_update) fire_update = gfmd::kernels_v3::fire_update;
+    decltype(&gfmd::kernels_v3::mark_held) mark_held = gfmd::kernels_v3::mark_held;
+    decltype(&gfmd::kernels_v3::mass_update) mass_update = gfmd::kernels_v3::mass_update;
+    decltype(&gfmd::kernels_v3::apply_stiffness) apply_stiffness = gfmd::kernels_v3::apply_stiffness;
+};
+#endif
+
+}  // namespace
+
+int main() {
+    bool have_v3 = false;
+#ifdef GFMD_KERNELS_V3
+    __builtin_cpu_init();
+    have_v3 = __builtin_cpu_supports("x86-64-v3");
+#endif
+    std::printf("test_kernels: %s\n", have_v3 ? "baseline and x86-64-v3 builds" : "the baseline build only");
+    std::mt19937_64 rng(2016);
+    std::vector<int64_t> lengths;
+    for (int64_t n = 1; n <= 40; ++n) lengths.push_back(n);
+    lengths.push_back(16384);
+    lengths.push_back(16387);
+    for (const int64_t n : lengths) {
+        const Data d(n, rng);
+        for (const bool adhesive : {false, true}) {
+            const char *what = adhesive ? "adhesive" : "non-adhesive";
+            // the definition against the baseline build
+            std::vector<double> f_ref = d.f;
+            double acc_ref[6];
+            for (double &a : acc_ref) a = 0.25;
+            const Completion in{d.z.data(), d.h.data(), d.v.data(), 0.05, adhesive ? 5e-4 : 0.0, 1.0 / 0.7,
+                                1.0 / 0.0505, adhesive};
+            complete_reference(in, f_ref.data(), n, acc_ref);
+            std::vector<double> f_base, out_base;
+            double acc_base[6], e_base = 0.0;
+            run_build<Base>("baseline", n, adhesive, d, f_base, out_base, acc_base, e_base);
+            expect_same(what, n, f_ref.data(), f_base.data(), n);
+            expect_same(what, n, acc_ref, acc_base, 6);
+            // the contacts are counted exactly
+            int64_t touching = 0;
+            for (int64_t i = 0; i < n; ++i) touching += (d.z[i] <= d.h[i]) ? 1 : 0;
+            if (acc_base[5] != 0.25 + static_cast<double>(touching)) {
+                std::printf("FAIL contacts, n = %" PRId64 ": %g against %" PRId64 "\n", n, acc_base[5] - 0.25, touching);
+                ++failures;
+            }
+#ifdef GFMD_KERNELS_V3
+            if (have_v3) {
+                std::vector<double> f_v3, out_v3;
+                double acc_v3[6], e_v3 = 0.0;
+                run_build<V3>("x86-64-v3", n, adhesive, d, f_v3, out_v3, acc_v3, e_v3);
+                expect_same(what, n, f_base.data(), f_v3.data(), n);
+                expect_same(what, n, acc_base, acc_v3, 6);
+                expect_same(what, n, out_base.data(), out_v3.data(), static_cast<int64_t>(out_base.size()));
+                expect_same(what, n, &e_base, &e_v3, 1);
+            }
+#endif
+        }
+    }
+    std::printf("test_kernels: %d failure(s)\n", failures);
+    return failures == 0 ? 0 : 1;
+}
