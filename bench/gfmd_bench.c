@@ -431,7 +431,7 @@ static int contention_table(const double *sizes, int nsizes) {
 int main(int argc, char **argv) {
     double sizes[8] = {256, 512, 1024, 2048}, widths[8] = {0, 0.5, 1, 4};
     int nsizes = 4, nwidths = 4, threads = 1, cg = 1, alt = 1, contention = 0, multilevel = 0, nloads = 0, big = 0,
-        first_load = 0, threads_given = 0, sizes_given = 0, widths_given = 0, sigma0_given = 0;
+        first_load = 0, threads_given = 0, sizes_given = 0, widths_given = 0, sigma0_given = 0, adhesion = 0;
     double loads[8];
     double cg_seconds = 120.0, sigma0 = 0.05, bonded_nu = NAN, first_tol = 0.0;
     int levels = 3;
@@ -450,6 +450,7 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--contention")) contention = 1;
         else if (!strcmp(argv[i], "--loads") && i + 1 < argc) nloads = parse_list(argv[++i], loads, 8);
         else if (!strcmp(argv[i], "--multilevel")) multilevel = 1;
+        else if (!strcmp(argv[i], "--adhesion")) adhesion = 1;
         else if (!strcmp(argv[i], "--bonded") && i + 1 < argc) bonded_nu = atof(argv[++i]);
         else if (!strcmp(argv[i], "--sigma0") && i + 1 < argc) sigma0 = atof(argv[++i]), sigma0_given = 1;
         else if (!strcmp(argv[i], "--solver") && i + 1 < argc) {
@@ -462,7 +463,7 @@ int main(int argc, char **argv) {
         if (solver < 0 || !(sigma0 > 0.0) || levels < 1 || first_tol < 0.0) {
             fprintf(stderr, "usage: %s [--sizes 256,512,...] [--big] [--widths 0,0.5,1,4] [--threads N] "
                             "[--cg-seconds S] [--no-cg] [--no-alt] [--sigma0 S] [--solver auto|fire|mass|mass+fire|verlet|cg] "
-                            "[--bonded NU] | --contention | --loads L,.. | --multilevel | --first-load [--levels L] [--tol T] | --big\n", argv[0]);
+                            "[--bonded NU] [--adhesion] | --contention | --loads L,.. | --multilevel | --first-load [--levels L] [--tol T] | --big\n", argv[0]);
             return 2;
         }
     }
@@ -486,9 +487,12 @@ int main(int argc, char **argv) {
         return 2;
     }
     if (threads < 1) threads = 1;
+    /* the study's adhesion (gamma0 = 5e-4 E* a, rho = a): neither CG takes it, so no CG columns */
+    if (adhesion) cg = 0, alt = 0;
     printf("gfmd %s benchmark: H = 0.8, lambda_s = 4a, lambda_r = n a/8, g = 1, E* = 1, sigma0 = %g, "
            "%d thread(s), FFTW_MEASURE, default tol %.0e, solver %s\n", gfmd_version(), sigma0,
            threads, GFMD_DEFAULT_TOL, solver_name(solver));
+    if (adhesion) printf("with adhesion: gamma0 = 5e-4, rho = 1 (no CG columns: neither CG takes adhesion)\n");
     if (layer == GFMD_GREEN_LAYER_BONDED)
         printf("layers (W > 0) bonded to a rigid base, nu = %g, w = 4 W a\n", bonded_nu);
     else
@@ -515,6 +519,7 @@ int main(int argc, char **argv) {
             if (W > 0 && layer == GFMD_GREEN_LAYER_BONDED && (st = gfmd_set_poisson(s, bonded_nu)) != GFMD_OK)
                 die(s, st, "poisson");
             if (W > 0 && (st = gfmd_set_green(s, layer, W * 4.0)) != GFMD_OK) die(s, st, "green");
+            if (adhesion && (st = gfmd_set_adhesion(s, 5e-4, 1.0)) != GFMD_OK) die(s, st, "adhesion");
             if ((st = gfmd_set_solver(s, solver)) != GFMD_OK) die(s, st, "solver");
             if ((st = gfmd_set_pressure(s, sigma0)) != GFMD_OK) die(s, st, "pressure");
             /* the converged value, untimed, then the same start again */
