@@ -176,21 +176,18 @@ void run_build(const char *name, int64_t n, bool adhesive, const Data &d, std::v
     (void)name;
 }
 
-struct Base {
-    decltype(&gfmd::kernels_base::complete_forces) complete_forces = gfmd::kernels_base::complete_forces;
-    decltype(&gfmd::kernels_base::fire_update) fire_update = gfmd::kernels_base::fire_update;
-    decltype(&gfmd::kernels_base::mark_held) mark_held = gfmd::kernels_base::mark_held;
-    decltype(&gfmd::kernels_base::mass_update) mass_update = gfmd::kernels_base::mass_update;
-    decltype(&gfmd::kernels_base::apply_stiffness) apply_stiffness = gfmd::kernels_base::apply_stiffness;
-};
+// Each build's passes under one name (the baseline's, and the x86-64-v3 build's where the library has it).
+#define KERNEL_BUILD(Name, ns)                                                              \
+    struct Name {                                                                           \
+        decltype(&gfmd::ns::complete_forces) complete_forces = gfmd::ns::complete_forces;  \
+        decltype(&gfmd::ns::fire_update) fire_update = gfmd::ns::fire_update;              \
+        decltype(&gfmd::ns::mark_held) mark_held = gfmd::ns::mark_held;                    \
+        decltype(&gfmd::ns::mass_update) mass_update = gfmd::ns::mass_update;              \
+        decltype(&gfmd::ns::apply_stiffness) apply_stiffness = gfmd::ns::apply_stiffness;  \
+    };
+KERNEL_BUILD(Base, kernels_base)
 #ifdef GFMD_KERNELS_V3
-struct V3 {
-    decltype(&gfmd::kernels_v3::complete_forces) complete_forces = gfmd::kernels_v3::complete_forces;
-    decltype(&gfmd::kernels_v3::fire_update) fire_update = gfmd::kernels_v3::fire_update;
-    decltype(&gfmd::kernels_v3::mark_held) mark_held = gfmd::kernels_v3::mark_held;
-    decltype(&gfmd::kernels_v3::mass_update) mass_update = gfmd::kernels_v3::mass_update;
-    decltype(&gfmd::kernels_v3::apply_stiffness) apply_stiffness = gfmd::kernels_v3::apply_stiffness;
-};
+KERNEL_BUILD(V3, kernels_v3)
 #endif
 
 }  // namespace
