@@ -52,10 +52,14 @@ inline __attribute__((always_inline)) Quad blend(QuadMask mask, Quad x, Quad y) 
 // infinity, NaN for NaN.
 inline __attribute__((always_inline)) Quad exp_quad(Quad x) {
     const Quad zero = {};
+    constexpr double lowest = -708.39, highest = 709.78;
+    // the arithmetic on the range's ends only: no overflow or invalid operation on the way for any
+    // argument (a program that traps floating-point exceptions would stop on one)
+    const Quad xr = blend(x < lowest, zero + lowest, blend(x > highest, zero + highest, x));
     const Quad magic = zero + 6755399441055744.0;  // 1.5 * 2^52
-    const Quad t = x * 1.4426950408889634 + magic;  // round(x log2(e)) in the low bits
+    const Quad t = xr * 1.4426950408889634 + magic;  // round(x log2(e)) in the low bits
     const Quad k = t - magic;
-    const Quad r = (x - k * 0.693145751953125) - k * 1.4286068203094172321e-6;  // ln2 = hi + lo
+    const Quad r = (xr - k * 0.693145751953125) - k * 1.4286068203094172321e-6;  // ln2 = hi + lo
     // Estrin's scheme (pairs in r, then in r^2, r^4, r^8: a short dependency chain) for
     // e^r - 1, and the 1 added last, so that the sums' rounding is relative to |e^r - 1| <= 0.42
     const Quad r2 = r * r, r4 = r2 * r2, r8 = r4 * r4;
@@ -73,7 +77,7 @@ inline __attribute__((always_inline)) Quad exp_quad(Quad x) {
     const Quad y = blend(top, y0 * 2.0, y0);
     const Quad inf = zero + HUGE_VAL;
     // x below the normal range: 0; above: infinity; NaN stays NaN (both comparisons false)
-    return blend(x < -708.39, zero, blend(x > 709.78, inf, y));
+    return blend(x < lowest, zero, blend(x > highest, inf, y));
 }
 
 struct CompletionSums {
