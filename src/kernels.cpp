@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 // Built as gfmd::kernels_base, and where the compiler can, once more with -march=x86-64-v3 as
 // gfmd::kernels_v3 (GFMD_KERNELS_NS; CMakeLists.txt).
@@ -145,6 +146,49 @@ inline __attribute__((always_inline)) void complete(const Completion &in, double
     }
 }
 
+// body(full, i, m, half) for the quads of 8 points: i the first point of a quad, m <= 4 the points
+// of it that exist (full: std::true_type, all 4), half 0 or 1: the lanes 0-3 or 4-7 of an octet.
+template <class Body>
+inline __attribute__((always_inline)) void over_octets(int64_t n, Body &&body) {
+    int64_t i = 0;
+    for (; i + 2 * 4 <= n; i += 2 * 4) {
+        body(std::true_type{}, i, int64_t{4}, 0);
+        body(std::true_type{}, i + 4, int64_t{4}, 1);
+    }
+    if (i < n) {
+        body(std::false_type{}, i, n - i, 0);
+        body(std::false_type{}, i + 4, n - i - 4, 1);
+    }
+}
+// m of the 4 values at p, pad for the others; and the first m of x stored.
+template <class Full>
+inline __attribute__((always_inline)) Quad load_some(Full, const double *p, int64_t m, double pad) {
+    if constexpr (Full::value) {
+        return load(p);
+    } else {
+        double t[4];
+        for (int64_t l = 0; l < 4; ++l) t[l] = l < m ? p[l] : pad;
+        return load(t);
+    }
+}
+template <class Full>
+inline __attribute__((always_inline)) void store_some(Full, double *p, Quad x, int64_t m) {
+    if constexpr (Full::value) {
+        store(p, x);
+    } else {
+        for (int64_t l = 0; l < m && l < 4; ++l) p[l] = x[l];
+    }
+}
+// The two halves' lanes added in order, onto acc.
+inline void add_lanes(const Quad (&q)[2], double *acc) {
+    double t = 0.0;
+    for (int half = 0; half < 2; ++half)
+        for (int l = 0; l < 4; ++l) t += q[half][l];
+    acc[0] += t;
+}
+// Where the wall holds a point of the surface CG: in contact and pushed into it.
+inline __attribute__((always_inline)) QuadMask held(Quad z, Quad h, Quad f) { return (z <= h) & (f <= 0.0); }
+
 }  // namespace
 
 void complete_forces(const Completion &in, double *f, int64_t n, double *acc) {
@@ -218,6 +262,67 @@ void mass_update(const MassUpdate &u, double *__restrict z, double *__restrict v
         v[i] = hit ? 0.0 : vi;
         z[i] = hit ? hi : zn;
     }
+}
+
+// The surface CG's passes.  Pads of the last octet: a free point (z = 1 > h = 0) with zero force,
+// direction and preconditioned force, which adds nothing and stops nothing.
+void cg_mask(const double *z, const double *h, const double *f, double *zp, int64_t n) {
+    over_octets(n, [&](auto full, int64_t i, int64_t m, int) {
+        const Quad fq = load_some(full, f + i, m, 0.0);
+        store_some(full, zp + i, select(~held(load_some(full, z + i, m, 1.0), load_some(full, h + i, m, 0.0), fq), fq), m);
+    });
+}
+
+void cg_scale_modes(std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1, int64_t nxh,
+                    double inv_n, double floor) {
+    for (int64_t r = r0; r < r1; ++r) {
+        std::complex<double> *row = work + r * nxh;
+        const double *krow = stiff + r * nxh;
+#pragma omp simd
+        for (int64_t kx = 0; kx < nxh; ++kx) row[kx] *= inv_n / std::max(krow[kx], floor);
+    }
+}
+
+void cg_restrict(const double *z, const double *h, const double *f, double *zp, int64_t n, double *acc) {
+    Quad rz[2] = {};
+    over_octets(n, [&](auto full, int64_t i, int64_t m, int half) {
+        const Quad fq = load_some(full, f + i, m, 0.0);
+        const QuadMask free = ~held(load_some(full, z + i, m, 1.0), load_some(full, h + i, m, 0.0), fq);
+        const Quad p = select(free, load_some(full, zp + i, m, 0.0));
+        store_some(full, zp + i, p, m);
+        rz[half] += fq * p;
+    });
+    add_lanes(rz, acc);
+}
+
+void cg_direction(const double *z, const double *h, const double *f, const double *s, double *t, double b,
+                  int64_t n, double *acc) {
+    Quad rt[2] = {};
+    over_octets(n, [&](auto full, int64_t i, int64_t m, int half) {
+        const Quad fq = load_some(full, f + i, m, 0.0);
+        const QuadMask free = ~held(load_some(full, z + i, m, 1.0), load_some(full, h + i, m, 0.0), fq);
+        const Quad ti = select(free, load_some(full, s + i, m, 0.0) + b * load_some(full, t + i, m, 0.0));
+        store_some(full, t + i, ti, m);
+        rt[half] += fq * ti;
+    });
+    add_lanes(rt, acc);
+}
+
+void cg_move(double *z, const double *h, const double *t, double alpha, bool to_wall, int64_t n, double *acc) {
+    const Quad zero = {}, one = zero + 1.0;
+    const double step = to_wall ? 0.0 : alpha;  // alpha may be infinite when the step goes to the wall
+    const QuadMask wall = (zero + (to_wall ? 1.0 : 0.0)) > 0.0;
+    Quad stopped[2] = {};
+    over_octets(n, [&](auto full, int64_t i, int64_t m, int half) {
+        const Quad zo = load_some(full, z + i, m, 1.0), hi = load_some(full, h + i, m, 0.0),
+                   ti = load_some(full, t + i, m, 0.0);
+        const QuadMask down = ti < 0.0;
+        const Quad zn = blend(wall, blend(down, hi, zo), zo + step * ti);
+        const QuadMask hit = (zn < hi) | (wall & down);
+        stopped[half] += select(hit, one);
+        store_some(full, z + i, blend(hit, hi, zn), m);
+    });
+    add_lanes(stopped, acc);
 }
 
 }  // namespace GFMD_KERNELS_NS

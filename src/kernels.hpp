@@ -45,7 +45,11 @@ struct MassUpdate {
 // [r0, r1) of width nxh, row *= -k inv_n, returning the energy sum of k |Z|^2 over the full plane
 // (column 0 and a Nyquist column, weight w_last, once; the others twice), per row in column order,
 // the rows in order.  mark_held: marks the points the wall holds (in contact, pushed into it) and
-// projects the force on the wall.
+// projects the force on the wall.  The surface CG's passes (SurfaceCg, cg.cpp), a point being held
+// where z <= h and f <= 0: cg_mask, zp = f where free, 0 where held; cg_scale_modes, the
+// preconditioner's Fourier rows *= inv_n / max(k, floor); cg_restrict, zp = 0 where held and
+// acc[0] += f.zp; cg_direction, t = s + b t where free, 0 where held, and acc[0] += f.t; cg_move,
+// z += alpha t stopped at the wall (to_wall: z = h where t < 0) and acc[0] += the points stopped.
 #define GFMD_KERNEL_DECLARATIONS                                                                               \
     void complete_forces(const kernels::Completion &in, double *f, int64_t n, double *acc);                   \
     double apply_stiffness(std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1, int64_t nxh, \
@@ -54,7 +58,14 @@ struct MassUpdate {
                      int64_t n);                                                                               \
     void mark_held(const double *z, const double *h, double *f, unsigned char *held, int64_t n);              \
     void mass_update(const kernels::MassUpdate &u, double *z, double *v, const double *h, const double *a,     \
-                     const unsigned char *held, int64_t n);
+                     const unsigned char *held, int64_t n);                                                    \
+    void cg_mask(const double *z, const double *h, const double *f, double *zp, int64_t n);                   \
+    void cg_scale_modes(std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1, int64_t nxh,  \
+                        double inv_n, double floor);                                                           \
+    void cg_restrict(const double *z, const double *h, const double *f, double *zp, int64_t n, double *acc);  \
+    void cg_direction(const double *z, const double *h, const double *f, const double *s, double *t, double b, \
+                      int64_t n, double *acc);                                                                 \
+    void cg_move(double *z, const double *h, const double *t, double alpha, bool to_wall, int64_t n, double *acc);
 
 GFMD_KERNEL_DECLARATIONS  // the dispatching ones
 const char *name();       // "x86-64-v3" or "baseline": the build in use

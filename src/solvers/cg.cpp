@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "../error.hpp"
+#include "../kernels.hpp"
 
 namespace gfmd {
 
@@ -77,15 +78,7 @@ void SurfaceCg::advance(StepContext &c, RealBuffer *scratch) {
     double beta = (fresh_ || !(prev_r2_ > 0.0)) ? 0.0 : r2 / prev_r2_;
     const auto direction = [&](double b) {
         return grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
-            double rt = 0.0;
-#pragma omp simd reduction(+ : rt)
-            for (int64_t i = i0; i < i1; ++i) {
-                const bool held = held_by_wall(z[i], h[i], f[i]);
-                const double ti = held ? 0.0 : s[i] + b * t[i];
-                t[i] = ti;
-                rt += f[i] * ti;
-            }
-            acc[0] += rt;
+            kernels::cg_direction(z + i0, h + i0, f + i0, s + i0, t + i0, b, i1 - i0, acc);
         })[0];
     };
     // Under displacement control the direction must keep mean(z): t is projected onto zero mean
@@ -153,15 +146,7 @@ void SurfaceCg::advance(StepContext &c, RealBuffer *scratch) {
     double alpha = n * rt / tkt;
     const bool to_wall = !(tkt > 0.0) || !std::isfinite(alpha);
     const double hits = grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
-        double stopped = 0.0;
-#pragma omp simd reduction(+ : stopped)
-        for (int64_t i = i0; i < i1; ++i) {
-            const double zn = to_wall ? (t[i] < 0.0 ? h[i] : z[i]) : z[i] + alpha * t[i];
-            const bool hit = zn < h[i] || (to_wall && t[i] < 0.0);
-            stopped += hit ? 1.0 : 0.0;
-            z[i] = hit ? h[i] : zn;
-        }
-        acc[0] += stopped;
+        kernels::cg_move(z + i0, h + i0, t + i0, alpha, to_wall, i1 - i0, acc);
     })[0];
     fresh_ = hits > 0.0;
 }
@@ -200,30 +185,15 @@ double SurfaceCg::precondition(const StepContext &c, double *zp) {
         floor_ = std::min(std::max(kc, c.body.k_min), c.body.k_max);
         bucket_ = bucket;
     }
-    grid.for_points([&](int64_t i0, int64_t i1) {
-#pragma omp simd
-        for (int64_t i = i0; i < i1; ++i) zp[i] = held_by_wall(z[i], h[i], f[i]) ? 0.0 : f[i];
-    });
+    grid.for_points([&](int64_t i0, int64_t i1) { kernels::cg_mask(z + i0, h + i0, f + i0, zp + i0, i1 - i0); });
     grid.forward(zp, c.fields.work.data());
     std::complex<double> *work = c.fields.work.data();
     const double inv_n = 1.0 / static_cast<double>(grid.real_size()), floor = floor_;
-    grid.for_mode_rows([&](int64_t y0, int64_t y1) {
-        for (int64_t r = y0; r < y1; ++r) {
-            std::complex<double> *row = work + r * nxh;
-            const double *krow = stiff + r * nxh;
-            for (int64_t kx = 0; kx < nxh; ++kx) row[kx] *= inv_n / std::max(krow[kx], floor);
-        }
-    });
+    grid.for_mode_rows(
+        [&](int64_t y0, int64_t y1) { kernels::cg_scale_modes(work, stiff, y0, y1, nxh, inv_n, floor); });
     grid.backward(c.fields.work.data(), zp);
     return grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
-        double rz = 0.0;
-#pragma omp simd reduction(+ : rz)
-        for (int64_t i = i0; i < i1; ++i) {
-            const bool held = held_by_wall(z[i], h[i], f[i]);
-            zp[i] = held ? 0.0 : zp[i];
-            rz += held ? 0.0 : f[i] * zp[i];
-        }
-        acc[0] += rz;
+        kernels::cg_restrict(z + i0, h + i0, f + i0, zp + i0, i1 - i0, acc);
     })[0];
 }
 

@@ -1,4 +1,5 @@
-// The element-wise passes (src/kernels.hpp) of both builds against a plain scalar transcription of
+// The element-wise passes (src/kernels.hpp: the completion, the stiffness, the FIRE updates and the
+// surface CG's passes) of both builds against a plain scalar transcription of
 // their definition, and against each other, bit for bit: every length of a block's tail (0 .. 40
 // points, and whole blocks of 16384 and 16387), with and without adhesion, with points in
 // contact, on the wall and below it, and forces of both signs.  The scalar reference adds point i
@@ -149,6 +150,72 @@ struct Data {
     }
 };
 
+// The surface CG's passes on the data: the masked force, the restriction of a preconditioned
+// force, the direction (b = 0.7), two moves (to the wall, and by alpha = 0.3), the Fourier scaling;
+// every array and sum appended to out.
+template <class Build>
+void run_cg(const Data &d, int64_t n, std::vector<double> &out) {
+    Build b;
+    std::vector<double> zp(n), t = d.v, z = d.z, zp2 = d.v;
+    double acc[3] = {};
+    b.cg_mask(d.z.data(), d.h.data(), d.f.data(), zp.data(), n);
+    b.cg_restrict(d.z.data(), d.h.data(), d.f.data(), zp2.data(), n, acc);
+    b.cg_direction(d.z.data(), d.h.data(), d.f.data(), zp2.data(), t.data(), 0.7, n, acc + 1);
+    b.cg_move(z.data(), d.h.data(), t.data(), HUGE_VAL, true, n, acc + 2);
+    b.cg_move(z.data(), d.h.data(), t.data(), 0.3, false, n, acc + 2);
+    std::vector<std::complex<double>> work(static_cast<std::size_t>(n));
+    for (int64_t i = 0; i < n; ++i) work[i] = {d.f[i], d.v[i]};
+    b.cg_scale_modes(work.data(), d.h.data() /* any positive and negative "stiffness" */, 0, 1, n, 1.0 / 3.0, 0.2);
+    for (const auto *a : {&zp, &zp2, &t, &z}) out.insert(out.end(), a->begin(), a->end());
+    for (const auto &w : work) {
+        out.push_back(w.real());
+        out.push_back(w.imag());
+    }
+    out.insert(out.end(), acc, acc + 3);
+}
+
+// Their definition, one point at a time (a point is held where z <= h and f <= 0).
+struct CgReference {
+    void cg_mask(const double *z, const double *h, const double *f, double *zp, int64_t n) const {
+        for (int64_t i = 0; i < n; ++i) zp[i] = (z[i] <= h[i] && f[i] <= 0.0) ? 0.0 : f[i];
+    }
+    void cg_scale_modes(std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1, int64_t nxh,
+                        double inv_n, double floor) const {
+        for (int64_t i = r0 * nxh; i < r1 * nxh; ++i) work[i] *= inv_n / std::max(stiff[i], floor);
+    }
+    static void lanes_to(const double (&lanes)[kLanes], double *acc) {
+        double t = 0.0;
+        for (const double x : lanes) t += x;
+        acc[0] += t;
+    }
+    void cg_restrict(const double *z, const double *h, const double *f, double *zp, int64_t n, double *acc) const {
+        double lanes[kLanes] = {};
+        for (int64_t i = 0; i < n; ++i) {
+            zp[i] = (z[i] <= h[i] && f[i] <= 0.0) ? 0.0 : zp[i];
+            lanes[i % kLanes] += f[i] * zp[i];
+        }
+        lanes_to(lanes, acc);
+    }
+    void cg_direction(const double *z, const double *h, const double *f, const double *s, double *t, double b,
+                      int64_t n, double *acc) const {
+        double lanes[kLanes] = {};
+        for (int64_t i = 0; i < n; ++i) {
+            t[i] = (z[i] <= h[i] && f[i] <= 0.0) ? 0.0 : s[i] + b * t[i];
+            lanes[i % kLanes] += f[i] * t[i];
+        }
+        lanes_to(lanes, acc);
+    }
+    void cg_move(double *z, const double *h, const double *t, double alpha, bool to_wall, int64_t n,
+                 double *acc) const {
+        for (int64_t i = 0; i < n; ++i) {
+            const double zn = to_wall ? (t[i] < 0.0 ? h[i] : z[i]) : z[i] + alpha * t[i];
+            const bool hit = zn < h[i] || (to_wall && t[i] < 0.0);
+            acc[0] += hit ? 1.0 : 0.0;
+            z[i] = hit ? h[i] : zn;
+        }
+    }
+};
+
 template <class Build>
 void run_build(const char *name, int64_t n, bool adhesive, const Data &d, std::vector<double> &f_out,
                std::vector<double> &zv_out, double *acc, double &energy) {
@@ -193,6 +260,11 @@ void run_build(const char *name, int64_t n, bool adhesive, const Data &d, std::v
         decltype(&gfmd::ns::mark_held) mark_held = gfmd::ns::mark_held;                    \
         decltype(&gfmd::ns::mass_update) mass_update = gfmd::ns::mass_update;              \
         decltype(&gfmd::ns::apply_stiffness) apply_stiffness = gfmd::ns::apply_stiffness;  \
+        decltype(&gfmd::ns::cg_mask) cg_mask = gfmd::ns::cg_mask;                          \
+        decltype(&gfmd::ns::cg_scale_modes) cg_scale_modes = gfmd::ns::cg_scale_modes;     \
+        decltype(&gfmd::ns::cg_restrict) cg_restrict = gfmd::ns::cg_restrict;              \
+        decltype(&gfmd::ns::cg_direction) cg_direction = gfmd::ns::cg_direction;           \
+        decltype(&gfmd::ns::cg_move) cg_move = gfmd::ns::cg_move;                          \
     };
 KERNEL_BUILD(Base, kernels_base)
 #ifdef GFMD_KERNELS_V3
@@ -248,6 +320,19 @@ int main() {
             if (acc_base[5] != 0.25 + static_cast<double>(touching)) {
                 std::printf("FAIL contacts, n = %" PRId64 ": %g against %" PRId64 "\n", n, acc_base[5] - 0.25, touching);
                 ++failures;
+            }
+            if (!adhesive) {  // the CG's passes: no adhesion in them
+                std::vector<double> cg_ref, cg_base;
+                run_cg<CgReference>(d, n, cg_ref);
+                run_cg<Base>(d, n, cg_base);
+                expect_same("CG", n, cg_ref.data(), cg_base.data(), static_cast<int64_t>(cg_ref.size()));
+#ifdef GFMD_KERNELS_V3
+                if (have_v3) {
+                    std::vector<double> cg_v3;
+                    run_cg<V3>(d, n, cg_v3);
+                    expect_same("CG", n, cg_base.data(), cg_v3.data(), static_cast<int64_t>(cg_base.size()));
+                }
+#endif
             }
 #ifdef GFMD_KERNELS_V3
             if (have_v3) {
