@@ -19,7 +19,7 @@ ForceState evaluate_forces(const FftGrid &grid, const Params &p, const Body &bod
     std::complex<double> *work = fields.work.data();
     const double *stiff = body.stiffness.data();
     const auto energy = grid.sum_mode_rows<1>([&](int64_t y0, int64_t y1, double *acc) {
-        acc[0] += kernels::apply_stiffness(work, stiff, y0, y1, nxh, inv_n, w_last);
+        acc[0] += kernels::use().apply_stiffness(work, stiff, y0, y1, nxh, inv_n, w_last);
     });
     out.u_el = 0.5 * grid.cell_area() * energy[0] * inv_n * inv_n;
     grid.backward(fields.work.data(), fields.f.data());
@@ -60,8 +60,8 @@ ForceState evaluate_forces(const FftGrid &grid, const Params &p, const Body &bod
     const double inv_ref = 1.0 / ref;
     const auto sums = grid.sum_points<6>([&](int64_t i0, int64_t i1, double *acc) {
         const kernels::Completion in{fields.z.data() + i0, fields.h.data() + i0, fields.v.data() + i0, sigma0,
-                                     adh_coef, inv_rho, inv_ref, adhesive};
-        kernels::complete_forces(in, fields.f.data() + i0, i1 - i0, acc);
+                                     adh_coef, inv_rho, inv_ref};
+        kernels::use().complete_forces(in, fields.f.data() + i0, i1 - i0, acc);
     });
     out.contacts = static_cast<int64_t>(sums[5]);
     out.u_ad = p.gamma0 * grid.area_per_point() * sums[0];

@@ -42,110 +42,6 @@ inline __attribute__((always_inline)) Quad blend(QuadMask mask, Quad x, Quad y) 
     return reinterpret_cast<Quad>((reinterpret_cast<QuadMask>(x) & mask) | (reinterpret_cast<QuadMask>(y) & ~mask));
 }
 
-// exp(x) of each element in IEEE operations alone, so that it has the same bits in every build
-// (the C library's exp is scalar, and its vector forms differ between instruction sets).
-// Cody & Waite's reduction x = k ln2 + r, |r| <= ln2/2 (ln2 split so that k ln2_hi is exact), the
-// Taylor polynomial of degree 13 for e^r (remainder below r^14/14! < 4e-18 relative), then 2^k from
-// the exponent bits (exact: p 2^k is a normal number in this range); k is read off the bits of
-// x log2(e) + 1.5 * 2^52 (no conversion to an integer type).  Within 2 units in the last place of
-// std::exp (test_kernels asserts 2, measures 1; 0.6x the C library's time at 2048² with AVX2);
-// below x = -708.39 (where exp(x) is no longer a normal number) it returns 0, above 709.78
-// infinity, NaN for NaN.
-inline __attribute__((always_inline)) Quad exp_quad(Quad x) {
-    const Quad zero = {};
-    constexpr double lowest = -708.39, highest = 709.78;
-    // the arithmetic on the range's ends only: no overflow or invalid operation on the way for any
-    // argument (a program that traps floating-point exceptions would stop on one)
-    const Quad xr = blend(x < lowest, zero + lowest, blend(x > highest, zero + highest, x));
-    const Quad magic = zero + 6755399441055744.0;  // 1.5 * 2^52
-    const Quad t = xr * 1.4426950408889634 + magic;  // round(x log2(e)) in the low bits
-    const Quad k = t - magic;
-    const Quad r = (xr - k * 0.693145751953125) - k * 1.4286068203094172321e-6;  // ln2 = hi + lo
-    // Estrin's scheme (pairs in r, then in r^2, r^4, r^8: a short dependency chain) for
-    // e^r - 1, and the 1 added last, so that the sums' rounding is relative to |e^r - 1| <= 0.42
-    const Quad r2 = r * r, r4 = r2 * r2, r8 = r4 * r4;
-    const Quad a1 = 0.5 + r * (1.0 / 6.0), a2 = 1.0 / 24.0 + r * (1.0 / 120.0),
-               a3 = 1.0 / 720.0 + r * (1.0 / 5040.0), a4 = 1.0 / 40320.0 + r * (1.0 / 362880.0),
-               a5 = 1.0 / 3628800.0 + r * (1.0 / 39916800.0), a6 = 1.0 / 479001600.0 + r * (1.0 / 6227020800.0);
-    const Quad b0 = r + r2 * a1, b1 = a2 + r2 * a3, b2 = a4 + r2 * a5;
-    const Quad c0 = b0 + r4 * b1, c1 = b2 + r4 * a6;
-    const Quad p = 1.0 + (c0 + r8 * c1);
-    const QuadMask ki = reinterpret_cast<QuadMask>(t) - reinterpret_cast<QuadMask>(magic);
-    // k = 1024 (x above 709.09) has no exponent field of its own: 2^1023, then times 2
-    const QuadMask top = ki > 1023;  // -1 where set
-    const Quad scale = reinterpret_cast<Quad>(reinterpret_cast<QuadBits>(ki + top + 1023) << 52);
-    const Quad y0 = p * scale;
-    const Quad y = blend(top, y0 * 2.0, y0);
-    const Quad inf = zero + HUGE_VAL;
-    // x below the normal range: 0; above: infinity; NaN stays NaN (both comparisons false)
-    return blend(x < lowest, zero, blend(x > highest, inf, y));
-}
-
-struct CompletionSums {
-    Quad adh, f2, power, v2, rel2, touching;
-};
-
-// Points i .. i + 3 of the completion, their terms added to the sums (the lanes of one Quad).
-template <bool Adhesive>
-inline __attribute__((always_inline)) void complete_quad(const Completion &in, const double *z, const double *h,
-                                                        const double *v, double *f, CompletionSums &s) {
-    const Quad one = Quad{} + 1.0;
-    const Quad g = load(z) - load(h);
-    Quad fi = load(f) - in.sigma0;
-    if constexpr (Adhesive) {
-        const Quad wq = exp_quad(-g * in.inv_rho);
-        s.adh += wq;
-        fi -= in.adh_coef * wq;
-    }
-    store(f, fi);
-    // selects as bit masks (SSE2 has no blend instruction; GCC's lowering of ?: to it is slow)
-    const QuadMask contact = g <= 0.0;
-    s.touching += select(contact, one);
-    const Quad pull = select(fi > 0.0, fi);
-    const Quad r = blend(contact, pull, fi);  // in contact only pulling away counts
-    const Quad rs = r * in.inv_ref;      // the residual, scaled first: no overflow
-    const Quad vq = load(v);
-    s.f2 += r * r;
-    s.rel2 += rs * rs;
-    s.power += r * vq;
-    s.v2 += vq * vq;
-}
-
-// kLanes = 8 lanes as two Quads: lane l takes the points l, l + 8, ... in order.  The last
-// n mod 8 points go through the same arithmetic from a padded copy whose extra points add nothing
-// (infinite gap: no adhesion, no contact; zero force and velocity).
-template <bool Adhesive>
-inline __attribute__((always_inline)) void complete(const Completion &in, double *f, int64_t n, double *acc) {
-    static_assert(kLanes == 8, "two Quads");
-    CompletionSums a{}, b{};
-    int64_t i = 0;
-    for (; i + kLanes <= n; i += kLanes) {
-        complete_quad<Adhesive>(in, in.z + i, in.h + i, in.v + i, f + i, a);
-        complete_quad<Adhesive>(in, in.z + i + 4, in.h + i + 4, in.v + i + 4, f + i + 4, b);
-    }
-    if (i < n) {
-        double z[kLanes], h[kLanes], v[kLanes], ft[kLanes];
-        for (int l = 0; l < kLanes; ++l) {
-            const bool real = i + l < n;
-            z[l] = real ? in.z[i + l] : HUGE_VAL;
-            h[l] = real ? in.h[i + l] : 0.0;
-            v[l] = real ? in.v[i + l] : 0.0;
-            ft[l] = real ? f[i + l] : in.sigma0;
-        }
-        complete_quad<Adhesive>(in, z, h, v, ft, a);
-        complete_quad<Adhesive>(in, z + 4, h + 4, v + 4, ft + 4, b);
-        for (int l = 0; i + l < n; ++l) f[i + l] = ft[l];
-    }
-    const Quad *qa[6] = {&a.adh, &a.f2, &a.power, &a.v2, &a.rel2, &a.touching};
-    const Quad *qb[6] = {&b.adh, &b.f2, &b.power, &b.v2, &b.rel2, &b.touching};
-    for (int k = 0; k < 6; ++k) {
-        double t = 0.0;
-        for (int l = 0; l < 4; ++l) t += (*qa[k])[l];
-        for (int l = 0; l < 4; ++l) t += (*qb[k])[l];
-        acc[k] += t;
-    }
-}
-
 // body(full, i, m, half) for the quads of 8 points: i the first point of a quad, m <= 4 the points
 // of it that exist (full: std::true_type, all 4), half 0 or 1: the lanes 0-3 or 4-7 of an octet.
 template <class Body>
@@ -189,10 +85,85 @@ inline void add_lanes(const Quad (&q)[2], double *acc) {
 // Where the wall holds a point of the surface CG: in contact and pushed into it.
 inline __attribute__((always_inline)) QuadMask held(Quad z, Quad h, Quad f) { return (z <= h) & (f <= 0.0); }
 
+// exp(x) of each element in IEEE operations alone, so that it has the same bits in every build
+// (the C library's exp is scalar, and its vector forms differ between instruction sets).
+// Cody & Waite's reduction x = k ln2 + r, |r| <= ln2/2 (ln2 split so that k ln2_hi is exact), the
+// Taylor polynomial of degree 13 for e^r (remainder below r^14/14! < 4e-18 relative), then 2^k from
+// the exponent bits (exact: p 2^k is a normal number in this range); k is read off the bits of
+// x log2(e) + 1.5 * 2^52 (no conversion to an integer type).  Within 2 units in the last place of
+// std::exp (test_kernels asserts 2, measures 1; 0.6x the C library's time at 2048² with AVX2);
+// below x = -708.39 (where exp(x) is no longer a normal number) it returns 0, above 709.78
+// infinity, NaN for NaN.
+inline __attribute__((always_inline)) Quad exp_quad(Quad x) {
+    const Quad zero = {};
+    constexpr double lowest = -708.39, highest = 709.78;
+    // the arithmetic on the range's ends only: no overflow or invalid operation on the way for any
+    // argument (a program that traps floating-point exceptions would stop on one)
+    const Quad xr = blend(x < lowest, zero + lowest, blend(x > highest, zero + highest, x));
+    const Quad magic = zero + 6755399441055744.0;  // 1.5 * 2^52
+    const Quad t = xr * 1.4426950408889634 + magic;  // round(x log2(e)) in the low bits
+    const Quad k = t - magic;
+    const Quad r = (xr - k * 0.693145751953125) - k * 1.4286068203094172321e-6;  // ln2 = hi + lo
+    // Estrin's scheme (pairs in r, then in r^2, r^4, r^8: a short dependency chain) for
+    // e^r - 1, and the 1 added last, so that the sums' rounding is relative to |e^r - 1| <= 0.42
+    const Quad r2 = r * r, r4 = r2 * r2, r8 = r4 * r4;
+    const Quad a1 = 0.5 + r * (1.0 / 6.0), a2 = 1.0 / 24.0 + r * (1.0 / 120.0),
+               a3 = 1.0 / 720.0 + r * (1.0 / 5040.0), a4 = 1.0 / 40320.0 + r * (1.0 / 362880.0),
+               a5 = 1.0 / 3628800.0 + r * (1.0 / 39916800.0), a6 = 1.0 / 479001600.0 + r * (1.0 / 6227020800.0);
+    const Quad b0 = r + r2 * a1, b1 = a2 + r2 * a3, b2 = a4 + r2 * a5;
+    const Quad c0 = b0 + r4 * b1, c1 = b2 + r4 * a6;
+    const Quad p = 1.0 + (c0 + r8 * c1);
+    const QuadMask ki = reinterpret_cast<QuadMask>(t) - reinterpret_cast<QuadMask>(magic);
+    // k = 1024 (x above 709.09) has no exponent field of its own: 2^1023, then times 2
+    const QuadMask top = ki > 1023;  // -1 where set
+    const Quad scale = reinterpret_cast<Quad>(reinterpret_cast<QuadBits>(ki + top + 1023) << 52);
+    const Quad y0 = p * scale;
+    const Quad y = blend(top, y0 * 2.0, y0);
+    const Quad inf = zero + HUGE_VAL;
+    // x below the normal range: 0; above: infinity; NaN stays NaN (both comparisons false)
+    return blend(x < lowest, zero, blend(x > highest, inf, y));
+}
+
+// The completion in kLanes = 8 lanes (over_octets).  Pads of the last octet: an infinite gap (no
+// adhesion, no contact), the force sigma0 (zero once completed) and zero velocity: they add
+// nothing.
+template <bool Adhesive>
+inline __attribute__((always_inline)) void complete(const Completion &in, double *f, int64_t n, double *acc) {
+    static_assert(kLanes == 2 * 4, "two Quads");
+    const Quad one = Quad{} + 1.0;
+    Quad adh[2] = {}, f2[2] = {}, power[2] = {}, v2[2] = {}, rel2[2] = {}, touching[2] = {};
+    over_octets(n, [&](auto full, int64_t i, int64_t m, int half) {
+        const Quad g = load_some(full, in.z + i, m, HUGE_VAL) - load_some(full, in.h + i, m, 0.0);
+        Quad fi = load_some(full, f + i, m, in.sigma0) - in.sigma0;
+        if constexpr (Adhesive) {
+            const Quad w = exp_quad(-g * in.inv_rho);
+            adh[half] += w;
+            fi -= in.adh_coef * w;
+        }
+        store_some(full, f + i, fi, m);
+        // selects as bit masks (SSE2 has no blend instruction; GCC's lowering of ?: to it is slow)
+        const QuadMask contact = g <= 0.0;
+        touching[half] += select(contact, one);
+        const Quad r = blend(contact, select(fi > 0.0, fi), fi);  // in contact only pulling away counts
+        const Quad rs = r * in.inv_ref;                           // the residual, scaled first: no overflow
+        const Quad vq = load_some(full, in.v + i, m, 0.0);
+        f2[half] += r * r;
+        rel2[half] += rs * rs;
+        power[half] += r * vq;
+        v2[half] += vq * vq;
+    });
+    add_lanes(adh, acc);
+    add_lanes(f2, acc + 1);
+    add_lanes(power, acc + 2);
+    add_lanes(v2, acc + 3);
+    add_lanes(rel2, acc + 4);
+    add_lanes(touching, acc + 5);
+}
+
 }  // namespace
 
 void complete_forces(const Completion &in, double *f, int64_t n, double *acc) {
-    if (in.adhesive)
+    if (in.adh_coef > 0.0)
         complete<true>(in, f, n, acc);
     else
         complete<false>(in, f, n, acc);

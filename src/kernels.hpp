@@ -1,7 +1,7 @@
 // The element-wise passes of a step (the force completion, the stiffness in Fourier space, the FIRE
 // updates).  On x86-64 with GCC they are compiled twice, for the baseline (SSE2, namespace
-// kernels_base) and for x86-64-v3 (AVX2, kernels_v3), and gfmd::kernels calls the ones the CPU
-// runs, chosen once per process (the environment variable GFMD_KERNELS=baseline forces the
+// kernels_base) and for x86-64-v3 (AVX2, kernels_v3); kernels::use() is the table of the build the
+// CPU runs, chosen once per process (the environment variable GFMD_KERNELS=baseline forces the
 // baseline).  The passes are memory- and instruction-bound; at 2048² the completion takes about a
 // third of the time with AVX2 (docs/performance.md, "Per-step cost").
 //
@@ -23,13 +23,12 @@ namespace kernels {
 constexpr int kLanes = 8;
 
 // The real-space force completion of points [0, n): f <- f - sigma0 - adh_coef exp(-(z-h) inv_rho)
-// (the exponential only if adhesive), and adds to acc[0..5]: the adhesive weight sum of
+// (the exponential only if adh_coef > 0), and adds to acc[0..5]: the adhesive weight sum of
 // exp(-(z-h) inv_rho), |F|^2, F.v, |v|^2, |F inv_ref|^2 and the points in contact (z <= h), where
 // F is f projected on the wall (in contact only pulling away counts).
 struct Completion {
     const double *z, *h, *v;
     double sigma0, adh_coef, inv_rho, inv_ref;
-    bool adhesive;
 };
 // FIRE 2.0's update of points [0, n) with the wall (Fire::advance()).
 struct FireUpdate {
@@ -67,9 +66,6 @@ struct MassUpdate {
                       int64_t n, double *acc);                                                                 \
     void cg_move(double *z, const double *h, const double *t, double alpha, bool to_wall, int64_t n, double *acc);
 
-GFMD_KERNEL_DECLARATIONS  // the dispatching ones
-const char *name();       // "x86-64-v3" or "baseline": the build in use
-
 }  // namespace kernels
 
 namespace kernels_base {
@@ -79,6 +75,27 @@ namespace kernels_v3 {
 GFMD_KERNEL_DECLARATIONS
 }
 
+namespace kernels {
+
+// X(ns, name) for every pass of the declarations above.
+#define GFMD_KERNEL_NAMES(X, ns)                                                                            \
+    X(ns, complete_forces) X(ns, apply_stiffness) X(ns, fire_update) X(ns, mark_held) X(ns, mass_update)      \
+    X(ns, cg_mask) X(ns, cg_scale_modes) X(ns, cg_restrict) X(ns, cg_direction) X(ns, cg_move)
+#define GFMD_KERNEL_FIELD(ns, f) decltype(&ns::f) f;
+#define GFMD_KERNEL_ENTRY(ns, f) ns::f,
+// One build's passes, called as use().complete_forces(...).
+struct Table {
+    GFMD_KERNEL_NAMES(GFMD_KERNEL_FIELD, kernels_base)
+    const char *name;  // "baseline" or "x86-64-v3"
+};
+// The table of namespace ns (kernels_base, kernels_v3).
+#define GFMD_KERNEL_TABLE(ns, label) \
+    ::gfmd::kernels::Table { GFMD_KERNEL_NAMES(GFMD_KERNEL_ENTRY, ::gfmd::ns) label }
+
+// The build the CPU runs (kernels_dispatch.cpp).
+const Table &use();
+
+}  // namespace kernels
 }  // namespace gfmd
 
 #endif

@@ -78,7 +78,7 @@ void SurfaceCg::advance(StepContext &c, RealBuffer *scratch) {
     double beta = (fresh_ || !(prev_r2_ > 0.0)) ? 0.0 : r2 / prev_r2_;
     const auto direction = [&](double b) {
         return grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
-            kernels::cg_direction(z + i0, h + i0, f + i0, s + i0, t + i0, b, i1 - i0, acc);
+            kernels::use().cg_direction(z + i0, h + i0, f + i0, s + i0, t + i0, b, i1 - i0, acc);
         })[0];
     };
     // Under displacement control the direction must keep mean(z): t is projected onto zero mean
@@ -146,7 +146,7 @@ void SurfaceCg::advance(StepContext &c, RealBuffer *scratch) {
     double alpha = n * rt / tkt;
     const bool to_wall = !(tkt > 0.0) || !std::isfinite(alpha);
     const double hits = grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
-        kernels::cg_move(z + i0, h + i0, t + i0, alpha, to_wall, i1 - i0, acc);
+        kernels::use().cg_move(z + i0, h + i0, t + i0, alpha, to_wall, i1 - i0, acc);
     })[0];
     fresh_ = hits > 0.0;
 }
@@ -185,15 +185,15 @@ double SurfaceCg::precondition(const StepContext &c, double *zp) {
         floor_ = std::min(std::max(kc, c.body.k_min), c.body.k_max);
         bucket_ = bucket;
     }
-    grid.for_points([&](int64_t i0, int64_t i1) { kernels::cg_mask(z + i0, h + i0, f + i0, zp + i0, i1 - i0); });
+    grid.for_points([&](int64_t i0, int64_t i1) { kernels::use().cg_mask(z + i0, h + i0, f + i0, zp + i0, i1 - i0); });
     grid.forward(zp, c.fields.work.data());
     std::complex<double> *work = c.fields.work.data();
     const double inv_n = 1.0 / static_cast<double>(grid.real_size()), floor = floor_;
     grid.for_mode_rows(
-        [&](int64_t y0, int64_t y1) { kernels::cg_scale_modes(work, stiff, y0, y1, nxh, inv_n, floor); });
+        [&](int64_t y0, int64_t y1) { kernels::use().cg_scale_modes(work, stiff, y0, y1, nxh, inv_n, floor); });
     grid.backward(c.fields.work.data(), zp);
     return grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
-        kernels::cg_restrict(z + i0, h + i0, f + i0, zp + i0, i1 - i0, acc);
+        kernels::use().cg_restrict(z + i0, h + i0, f + i0, zp + i0, i1 - i0, acc);
     })[0];
 }
 

@@ -26,7 +26,7 @@ void Fire::advance(StepContext &c) {
     const kernels::FireUpdate u{dt, keep, mix, back, uphill};
     double *z = c.fields.z.data(), *v = c.fields.v.data();
     const double *h = c.fields.h.data(), *f = c.fields.f.data();
-    c.grid.for_points([&](int64_t i0, int64_t i1) { kernels::fire_update(u, z + i0, v + i0, h + i0, f + i0, i1 - i0); });
+    c.grid.for_points([&](int64_t i0, int64_t i1) { kernels::use().fire_update(u, z + i0, v + i0, h + i0, f + i0, i1 - i0); });
 }
 
 }  // namespace gfmd

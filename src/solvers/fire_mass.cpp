@@ -73,7 +73,7 @@ void FireMass::advance(StepContext &c) {
     double *z = c.fields.z.data(), *v = c.fields.v.data(), *a = c.fields.f.data();
     const double *h = c.fields.h.data();
     unsigned char *held = held_.data();
-    grid.for_points([&](int64_t i0, int64_t i1) { kernels::mark_held(z + i0, h + i0, a + i0, held + i0, i1 - i0); });
+    grid.for_points([&](int64_t i0, int64_t i1) { kernels::use().mark_held(z + i0, h + i0, a + i0, held + i0, i1 - i0); });
     grid.forward(a, c.fields.work.data());
     const int64_t nxh = grid.nxh();
     const double inv_n = 1.0 / static_cast<double>(grid.real_size()), floor = floor_;
@@ -100,7 +100,7 @@ void FireMass::advance(StepContext &c) {
     const double back = uphill ? 0.5 * dt : 0.0;
     const kernels::MassUpdate u{dt, keep, mix + dt, back};
     grid.for_points([&](int64_t i0, int64_t i1) {
-        kernels::mass_update(u, z + i0, v + i0, h + i0, a + i0, held + i0, i1 - i0);
+        kernels::use().mass_update(u, z + i0, v + i0, h + i0, a + i0, held + i0, i1 - i0);
     });
 }
 

@@ -16,6 +16,7 @@
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <random>
 #include <vector>
@@ -49,7 +50,7 @@ void complete_reference(const Completion &in, double *f, int64_t n, double *acc)
         const int l = static_cast<int>(i % kLanes);
         const double g = in.z[i] - in.h[i];
         double fi = f[i] - in.sigma0;
-        if (in.adhesive) {
+        if (in.adh_coef > 0.0) {
             const double w = std::exp(-g * in.inv_rho);
             lanes[0][l] += w;
             fi -= in.adh_coef * w;
@@ -79,16 +80,15 @@ double ulps(double got, double want) {
 // The passes' exponential, read off the adhesive weight sum of single points (h = 0, z = -x,
 // inv_rho = 1: the sum of one point with zero start is exp(x) itself), against std::exp; the
 // normal range and its ends: 0 below -708.39, infinity above 709.78, NaN for NaN.
-template <class Build>
-void check_exp(const char *name) {
-    Build b;
+void check_exp(const gfmd::kernels::Table &b) {
+    const char *name = b.name;
     std::mt19937_64 rng(7);
     std::uniform_real_distribution<double> u(-708.3, 709.7), small(-1.0, 1.0);
     double worst = 0.0, worst_x = 0.0;
     auto one = [&](double x) {
         const double z = -x, h = 0.0, v = 0.0;
         double f = 0.0, acc[6] = {};
-        b.complete_forces(Completion{&z, &h, &v, 0.0, 1.0, 1.0, 1.0, true}, &f, 1, acc);
+        b.complete_forces(Completion{&z, &h, &v, 0.0, 1.0, 1.0, 1.0}, &f, 1, acc);
         return acc[0];
     };
     for (int i = 0; i < 200000; ++i) {
@@ -154,8 +154,7 @@ struct Data {
 // force, the direction (b = 0.7), two moves (to the wall, and by alpha = 0.3), the Fourier scaling;
 // every array and sum appended to out.
 template <class Build>
-void run_cg(const Data &d, int64_t n, std::vector<double> &out) {
-    Build b;
+void run_cg(const Build &b, const Data &d, int64_t n, std::vector<double> &out) {
     std::vector<double> zp(n), t = d.v, z = d.z, zp2 = d.v;
     double acc[3] = {};
     b.cg_mask(d.z.data(), d.h.data(), d.f.data(), zp.data(), n);
@@ -216,12 +215,9 @@ struct CgReference {
     }
 };
 
-template <class Build>
-void run_build(const char *name, int64_t n, bool adhesive, const Data &d, std::vector<double> &f_out,
+void run_build(const gfmd::kernels::Table &b, int64_t n, bool adhesive, const Data &d, std::vector<double> &f_out,
                std::vector<double> &zv_out, double *acc, double &energy) {
-    Build b;
-    const Completion in{d.z.data(), d.h.data(), d.v.data(), 0.05, adhesive ? 5e-4 : 0.0, 1.0 / 0.7, 1.0 / 0.0505,
-                        adhesive};
+    const Completion in{d.z.data(), d.h.data(), d.v.data(), 0.05, adhesive ? 5e-4 : 0.0, 1.0 / 0.7, 1.0 / 0.0505};
     f_out = d.f;
     for (int k = 0; k < 6; ++k) acc[k] = 0.25;  // adds onto acc
     b.complete_forces(in, f_out.data(), n, acc);
@@ -249,26 +245,11 @@ void run_build(const char *name, int64_t n, bool adhesive, const Data &d, std::v
         zv_out.push_back(w.real());
         zv_out.push_back(w.imag());
     }
-    (void)name;
 }
 
-// Each build's passes under one name (the baseline's, and the x86-64-v3 build's where the library has it).
-#define KERNEL_BUILD(Name, ns)                                                              \
-    struct Name {                                                                           \
-        decltype(&gfmd::ns::complete_forces) complete_forces = gfmd::ns::complete_forces;  \
-        decltype(&gfmd::ns::fire_update) fire_update = gfmd::ns::fire_update;              \
-        decltype(&gfmd::ns::mark_held) mark_held = gfmd::ns::mark_held;                    \
-        decltype(&gfmd::ns::mass_update) mass_update = gfmd::ns::mass_update;              \
-        decltype(&gfmd::ns::apply_stiffness) apply_stiffness = gfmd::ns::apply_stiffness;  \
-        decltype(&gfmd::ns::cg_mask) cg_mask = gfmd::ns::cg_mask;                          \
-        decltype(&gfmd::ns::cg_scale_modes) cg_scale_modes = gfmd::ns::cg_scale_modes;     \
-        decltype(&gfmd::ns::cg_restrict) cg_restrict = gfmd::ns::cg_restrict;              \
-        decltype(&gfmd::ns::cg_direction) cg_direction = gfmd::ns::cg_direction;           \
-        decltype(&gfmd::ns::cg_move) cg_move = gfmd::ns::cg_move;                          \
-    };
-KERNEL_BUILD(Base, kernels_base)
+const gfmd::kernels::Table base = GFMD_KERNEL_TABLE(kernels_base, "baseline");
 #ifdef GFMD_KERNELS_V3
-KERNEL_BUILD(V3, kernels_v3)
+const gfmd::kernels::Table v3 = GFMD_KERNEL_TABLE(kernels_v3, "x86-64-v3");
 #endif
 
 }  // namespace
@@ -280,9 +261,25 @@ int main() {
     have_v3 = __builtin_cpu_supports("x86-64-v3");
 #endif
     std::printf("test_kernels: %s\n", have_v3 ? "baseline and x86-64-v3 builds" : "the baseline build only");
-    check_exp<Base>("baseline");
+    // The library's choice (kernels_dispatch.cpp, linked here as in the library): the x86-64-v3 build
+    // where the CPU runs it, the baseline where it does not or GFMD_KERNELS=baseline says so (ctest
+    // runs this program both ways, test_kernels and test_kernels_baseline).
+    const char *forced = std::getenv("GFMD_KERNELS");
+    const bool want_base = !have_v3 || (forced != nullptr && std::strcmp(forced, "baseline") == 0);
+    const gfmd::kernels::Table &chosen = gfmd::kernels::use();
+    std::printf("test_kernels: the library runs the %s build\n", chosen.name);
 #ifdef GFMD_KERNELS_V3
-    if (have_v3) check_exp<V3>("x86-64-v3");
+    const gfmd::kernels::Table &expected = want_base ? base : v3;
+#else
+    const gfmd::kernels::Table &expected = base;
+#endif
+    if (std::strcmp(chosen.name, expected.name) != 0 || chosen.complete_forces != expected.complete_forces) {
+        std::printf("FAIL the library chose the %s build\n", chosen.name);
+        ++failures;
+    }
+    check_exp(base);
+#ifdef GFMD_KERNELS_V3
+    if (have_v3) check_exp(v3);
 #endif
     std::mt19937_64 rng(2016);
     std::vector<int64_t> lengths;
@@ -298,11 +295,11 @@ int main() {
             double acc_ref[6];
             for (double &a : acc_ref) a = 0.25;
             const Completion in{d.z.data(), d.h.data(), d.v.data(), 0.05, adhesive ? 5e-4 : 0.0, 1.0 / 0.7,
-                                1.0 / 0.0505, adhesive};
+                                1.0 / 0.0505};
             complete_reference(in, f_ref.data(), n, acc_ref);
             std::vector<double> f_base, out_base;
             double acc_base[6], e_base = 0.0;
-            run_build<Base>("baseline", n, adhesive, d, f_base, out_base, acc_base, e_base);
+            run_build(base, n, adhesive, d, f_base, out_base, acc_base, e_base);
             if (!adhesive) {
                 expect_same(what, n, f_ref.data(), f_base.data(), n);
                 expect_same(what, n, acc_ref, acc_base, 6);
@@ -323,13 +320,13 @@ int main() {
             }
             if (!adhesive) {  // the CG's passes: no adhesion in them
                 std::vector<double> cg_ref, cg_base;
-                run_cg<CgReference>(d, n, cg_ref);
-                run_cg<Base>(d, n, cg_base);
+                run_cg(CgReference{}, d, n, cg_ref);
+                run_cg(base, d, n, cg_base);
                 expect_same("CG", n, cg_ref.data(), cg_base.data(), static_cast<int64_t>(cg_ref.size()));
 #ifdef GFMD_KERNELS_V3
                 if (have_v3) {
                     std::vector<double> cg_v3;
-                    run_cg<V3>(d, n, cg_v3);
+                    run_cg(v3, d, n, cg_v3);
                     expect_same("CG", n, cg_base.data(), cg_v3.data(), static_cast<int64_t>(cg_base.size()));
                 }
 #endif
@@ -338,7 +335,7 @@ int main() {
             if (have_v3) {
                 std::vector<double> f_v3, out_v3;
                 double acc_v3[6], e_v3 = 0.0;
-                run_build<V3>("x86-64-v3", n, adhesive, d, f_v3, out_v3, acc_v3, e_v3);
+                run_build(v3, n, adhesive, d, f_v3, out_v3, acc_v3, e_v3);
                 expect_same(what, n, f_base.data(), f_v3.data(), n);
                 expect_same(what, n, acc_base, acc_v3, 6);
                 expect_same(what, n, out_base.data(), out_v3.data(), static_cast<int64_t>(out_base.size()));
