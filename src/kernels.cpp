@@ -296,5 +296,96 @@ void cg_move(double *z, const double *h, const double *t, double alpha, bool to_
     add_lanes(stopped, acc);
 }
 
+// Polonsky & Keer's passes (PolonskyKeer, pk.cpp): a point is in the contact set where p > 0, its
+// gap is g = (u + a) - h.  Pads of the last octet: p = u = 0 (outside the set) and h = a (gap 0: it
+// does not penetrate, so it joins nothing), which add nothing.
+namespace {
+inline __attribute__((always_inline)) QuadMask in_set(Quad p) { return p > 0.0; }
+}  // namespace
+
+void pk_direction(const double *p, const double *u, const double *h, double *t, double a, double beta, int64_t n) {
+    over_octets(n, [&](auto full, int64_t i, int64_t m, int) {
+        const Quad g = (load_some(full, u + i, m, 0.0) + a) - load_some(full, h + i, m, a);
+        const Quad ti = g + beta * load_some(full, t + i, m, 0.0);
+        store_some(full, t + i, select(in_set(load_some(full, p + i, m, 0.0)), ti), m);
+    });
+}
+
+void pk_sums(const double *p, const double *r, const double *t, const double *u, const double *h, double a,
+             int64_t n, double *acc) {
+    Quad sr[2] = {}, st[2] = {}, srt[2] = {}, sgt[2] = {};
+    over_octets(n, [&](auto full, int64_t i, int64_t m, int half) {
+        const QuadMask in = in_set(load_some(full, p + i, m, 0.0));
+        const Quad ri = load_some(full, r + i, m, 0.0), ti = load_some(full, t + i, m, 0.0);
+        const Quad g = (load_some(full, u + i, m, 0.0) + a) - load_some(full, h + i, m, a);
+        sr[half] += select(in, ri);
+        st[half] += select(in, ti);
+        srt[half] += select(in, ri * ti);
+        sgt[half] += select(in, g * ti);
+    });
+    add_lanes(sr, acc);
+    add_lanes(st, acc + 1);
+    add_lanes(srt, acc + 2);
+    add_lanes(sgt, acc + 3);
+}
+
+void pk_update(double *p, const double *u, const double *h, const double *t, double a, double tau, int64_t n,
+               double *acc) {
+    const Quad zero = {}, one = zero + 1.0;
+    Quad total[2] = {}, joined[2] = {};
+    over_octets(n, [&](auto full, int64_t i, int64_t m, int half) {
+        const Quad pi = load_some(full, p + i, m, 0.0);
+        const Quad g = (load_some(full, u + i, m, 0.0) + a) - load_some(full, h + i, m, a);
+        const QuadMask in = in_set(pi), join = ~in & (g < 0.0);
+        const Quad down = pi - tau * load_some(full, t + i, m, 0.0);
+        const Quad kept = blend(down < 0.0, zero, down);  // std::max(down, 0.0), NaN kept
+        const Quad pn = blend(in, kept, select(join, -tau * g));
+        store_some(full, p + i, pn, m);
+        total[half] += pn;
+        joined[half] += select(join, one);
+    });
+    add_lanes(total, acc);
+    add_lanes(joined, acc + 1);
+}
+
+void pk_scale(double *p, double scale, int64_t n) {
+#pragma omp simd
+    for (int64_t i = 0; i < n; ++i) p[i] *= scale;
+}
+
+void pk_approach(const double *p, const double *u, const double *h, int64_t n, double *acc) {
+    const Quad one = Quad{} + 1.0;
+    Quad s[2] = {}, count[2] = {};
+    over_octets(n, [&](auto full, int64_t i, int64_t m, int half) {
+        const QuadMask in = in_set(load_some(full, p + i, m, 0.0));
+        s[half] += select(in, load_some(full, h + i, m, 0.0) - load_some(full, u + i, m, 0.0));
+        count[half] += select(in, one);
+    });
+    add_lanes(s, acc);
+    add_lanes(count, acc + 1);
+}
+
+void pk_gap(const double *p, const double *u, const double *h, double *z, double a, int64_t n, double *acc) {
+    Quad g2[2] = {};
+    over_octets(n, [&](auto full, int64_t i, int64_t m, int half) {
+        const QuadMask in = in_set(load_some(full, p + i, m, 0.0));
+        const Quad hi = load_some(full, h + i, m, a), ua = load_some(full, u + i, m, 0.0) + a;
+        const Quad g = ua - hi;
+        g2[half] += select(in, g * g);
+        if (z != nullptr) store_some(full, z + i, blend(in, hi, blend(hi < ua, ua, hi)), m);
+    });
+    add_lanes(g2, acc);
+}
+
+void pk_scale_modes(std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1, int64_t nxh,
+                    double inv_n) {
+    for (int64_t r = r0; r < r1; ++r) {
+        std::complex<double> *row = work + r * nxh;
+        const double *krow = stiff + r * nxh;
+#pragma omp simd
+        for (int64_t kx = 0; kx < nxh; ++kx) row[kx] *= (krow[kx] > 0.0) ? inv_n / krow[kx] : 0.0;
+    }
+}
+
 }  // namespace GFMD_KERNELS_NS
 }  // namespace gfmd

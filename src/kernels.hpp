@@ -49,6 +49,14 @@ struct MassUpdate {
 // preconditioner's Fourier rows *= inv_n / max(k, floor); cg_restrict, zp = 0 where held and
 // acc[0] += f.zp; cg_direction, t = s + b t where free, 0 where held, and acc[0] += f.t; cg_move,
 // z += alpha t stopped at the wall (to_wall: z = h where t < 0) and acc[0] += the points stopped.
+// Polonsky & Keer's passes (PolonskyKeer, pk.cpp), a point being in the contact set where p > 0,
+// its gap g = (u + a) - h: pk_direction, t = g + beta t in the set, 0 elsewhere; pk_sums, acc[0..3]
+// += the sums over the set of r, t, r t and g t; pk_update, p = max(p - tau t, 0) in the set, -tau g
+// where a point outside it penetrates (g < 0), 0 elsewhere, and acc[0..1] += the sum of the new p
+// and the points that joined; pk_scale, p *= scale; pk_approach, acc[0..1] += the sum of h - u over
+// the set and its points; pk_gap, acc[0] += the sum of g^2 over the set and, unless z is null, z = h
+// in the set and max(h, u + a) elsewhere; pk_scale_modes, the Fourier rows *= inv_n / k (0 where
+// k = 0): the compliance.
 #define GFMD_KERNEL_DECLARATIONS                                                                               \
     void complete_forces(const kernels::Completion &in, double *f, int64_t n, double *acc);                   \
     double apply_stiffness(std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1, int64_t nxh, \
@@ -64,7 +72,18 @@ struct MassUpdate {
     void cg_restrict(const double *z, const double *h, const double *f, double *zp, int64_t n, double *acc);  \
     void cg_direction(const double *z, const double *h, const double *f, const double *s, double *t, double b, \
                       int64_t n, double *acc);                                                                 \
-    void cg_move(double *z, const double *h, const double *t, double alpha, bool to_wall, int64_t n, double *acc);
+    void cg_move(double *z, const double *h, const double *t, double alpha, bool to_wall, int64_t n, double *acc); \
+    void pk_direction(const double *p, const double *u, const double *h, double *t, double a, double beta,     \
+                      int64_t n);                                                                              \
+    void pk_sums(const double *p, const double *r, const double *t, const double *u, const double *h, double a, \
+                 int64_t n, double *acc);                                                                      \
+    void pk_update(double *p, const double *u, const double *h, const double *t, double a, double tau,         \
+                   int64_t n, double *acc);                                                                    \
+    void pk_scale(double *p, double scale, int64_t n);                                                         \
+    void pk_approach(const double *p, const double *u, const double *h, int64_t n, double *acc);               \
+    void pk_gap(const double *p, const double *u, const double *h, double *z, double a, int64_t n, double *acc); \
+    void pk_scale_modes(std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1, int64_t nxh,  \
+                        double inv_n);
 
 }  // namespace kernels
 
@@ -80,7 +99,9 @@ namespace kernels {
 // X(ns, name) for every pass of the declarations above.
 #define GFMD_KERNEL_NAMES(X, ns)                                                                            \
     X(ns, complete_forces) X(ns, apply_stiffness) X(ns, fire_update) X(ns, mark_held) X(ns, mass_update)      \
-    X(ns, cg_mask) X(ns, cg_scale_modes) X(ns, cg_restrict) X(ns, cg_direction) X(ns, cg_move)
+    X(ns, cg_mask) X(ns, cg_scale_modes) X(ns, cg_restrict) X(ns, cg_direction) X(ns, cg_move)                \
+    X(ns, pk_direction) X(ns, pk_sums) X(ns, pk_update) X(ns, pk_scale) X(ns, pk_approach) X(ns, pk_gap)       \
+    X(ns, pk_scale_modes)
 #define GFMD_KERNEL_FIELD(ns, f) decltype(&ns::f) f;
 #define GFMD_KERNEL_ENTRY(ns, f) ns::f,
 // One build's passes, called as use().complete_forces(...).

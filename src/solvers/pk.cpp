@@ -5,6 +5,7 @@
 #include <complex>
 
 #include "../error.hpp"
+#include "../kernels.hpp"
 
 namespace gfmd {
 
@@ -64,12 +65,10 @@ namespace {
 // out = G * in: the periodic convolution with the compliance 1/k(q), the mean dropped.
 void convolve(const FftGrid &grid, const Body &body, std::complex<double> *work, const double *in, double *out) {
     grid.forward(in, work);
-    const int64_t nxh = grid.nxh();
     const double *stiff = body.stiffness.data();
-    const double s = 1.0 / static_cast<double>(grid.real_size());
-    grid.for_mode_rows([&](int64_t r0, int64_t r1) {
-        for (int64_t i = r0 * nxh; i < r1 * nxh; ++i) work[i] *= (stiff[i] > 0.0) ? s / stiff[i] : 0.0;
-    });
+    const double inv_n = 1.0 / static_cast<double>(grid.real_size());
+    const int64_t nxh = grid.nxh();
+    grid.for_mode_rows([&](int64_t r0, int64_t r1) { kernels::use().pk_scale_modes(work, stiff, r0, r1, nxh, inv_n); });
     grid.backward(work, out);
 }
 
@@ -77,39 +76,22 @@ void convolve(const FftGrid &grid, const Body &body, std::complex<double> *work,
 
 // p *= scale, u = G p (from p alone, so that a clone or a checkpoint recomputes the same bits);
 // then the approach c that makes the mean gap over the contact set zero, and the squared gap over
-// it (the next direction's norm).
-void PolonskyKeer::displacement(const StepContext &c, double scale) {
+// it (the next direction's norm); with surface, in the same pass, the surface of this pressure (at
+// the end of an iteration).
+void PolonskyKeer::displacement(const StepContext &c, double scale, bool surface) {
     const FftGrid &grid = c.grid;
-    double *__restrict p = p_.data(), *__restrict u = u_.data();
-    const double *__restrict h = c.fields.h.data();
-    if (scale != 1.0)
-        grid.for_points([&](int64_t i0, int64_t i1) {
-#pragma omp simd
-            for (int64_t i = i0; i < i1; ++i) p[i] *= scale;
-        });
+    double *p = p_.data(), *u = u_.data();
+    const double *h = c.fields.h.data();
+    if (scale != 1.0) grid.for_points([&](int64_t i0, int64_t i1) { kernels::use().pk_scale(p + i0, scale, i1 - i0); });
     convolve(grid, c.body, c.fields.work.data(), p, u);
-    const auto sums = grid.sum_points<2>([&](int64_t i0, int64_t i1, double *acc) {
-        double s = 0.0, n = 0.0;
-#pragma omp simd reduction(+ : s, n)
-        for (int64_t i = i0; i < i1; ++i) {
-            const bool in = p[i] > 0.0;
-            s += in ? h[i] - u[i] : 0.0;
-            n += in ? 1.0 : 0.0;
-        }
-        acc[0] += s;
-        acc[1] += n;
-    });
+    const auto sums = grid.sum_points<2>(
+        [&](int64_t i0, int64_t i1, double *acc) { kernels::use().pk_approach(p + i0, u + i0, h + i0, i1 - i0, acc); });
     in_contact_ = sums[1];
     approach_ = (sums[1] > 0.0) ? sums[0] / sums[1] : 0.0;
     const double a = approach_;
+    double *z = surface ? c.fields.z.data() : nullptr;
     g_now_ = grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
-        double g2 = 0.0;
-#pragma omp simd reduction(+ : g2)
-        for (int64_t i = i0; i < i1; ++i) {
-            const double g = u[i] + a - h[i];
-            g2 += (p[i] > 0.0) ? g * g : 0.0;
-        }
-        acc[0] += g2;
+        kernels::use().pk_gap(p + i0, u + i0, h + i0, z ? z + i0 : nullptr, a, i1 - i0, acc);
     })[0];
     u_valid_ = true;
 }
@@ -142,7 +124,7 @@ void PolonskyKeer::start(StepContext &c) {
     conjugate_ = false;
     g_old_ = 0.0;
     fresh_ = false;
-    displacement(c, uniform ? 1.0 : sigma0 * n / total);
+    displacement(c, uniform ? 1.0 : sigma0 * n / total, false);
 }
 
 void PolonskyKeer::advance(StepContext &c) {
@@ -152,35 +134,20 @@ void PolonskyKeer::advance(StepContext &c) {
     if (fresh_)
         start(c);
     else if (!u_valid_)
-        displacement(c, 1.0);  // after a checkpoint or a clone: u = G p exactly as it was
-    double *__restrict p = p_.data(), *__restrict u = u_.data(), *__restrict t = c.fields.v.data();
-    double *__restrict r = c.fields.f.data();
-    const double *__restrict h = c.fields.h.data();
+        displacement(c, 1.0, false);  // after a checkpoint or a clone: u = G p exactly as it was
+    double *p = p_.data(), *t = c.fields.v.data(), *r = c.fields.f.data();
+    const double *u = u_.data(), *h = c.fields.h.data();
     const double a = approach_;
     // The direction on the contact set: the gap, conjugated to the last direction.
     const double beta = (conjugate_ && g_old_ > 0.0) ? g_now_ / g_old_ : 0.0;
-    grid.for_points([&](int64_t i0, int64_t i1) {
-#pragma omp simd
-        for (int64_t i = i0; i < i1; ++i) t[i] = (p[i] > 0.0) ? (u[i] + a - h[i]) + beta * t[i] : 0.0;
-    });
+    grid.for_points(
+        [&](int64_t i0, int64_t i1) { kernels::use().pk_direction(p + i0, u + i0, h + i0, t + i0, a, beta, i1 - i0); });
     g_old_ = g_now_;
     // r = G t; the step tau along t minimizes the complementary energy with the approach free:
     // tau = sum g t / sum (r - <r>) t over the contact set.
     convolve(grid, c.body, c.fields.work.data(), t, r);
     const auto sums = grid.sum_points<4>([&](int64_t i0, int64_t i1, double *acc) {
-        double sr = 0.0, st = 0.0, srt = 0.0, sgt = 0.0;
-#pragma omp simd reduction(+ : sr, st, srt, sgt)
-        for (int64_t i = i0; i < i1; ++i) {
-            const bool in = p[i] > 0.0;
-            sr += in ? r[i] : 0.0;
-            st += in ? t[i] : 0.0;
-            srt += in ? r[i] * t[i] : 0.0;
-            sgt += in ? (u[i] + a - h[i]) * t[i] : 0.0;
-        }
-        acc[0] += sr;
-        acc[1] += st;
-        acc[2] += srt;
-        acc[3] += sgt;
+        kernels::use().pk_sums(p + i0, r + i0, t + i0, u + i0, h + i0, a, i1 - i0, acc);
     });
     const double r_mean = (in_contact_ > 0.0) ? sums[0] / in_contact_ : 0.0;
     const double den = sums[2] - r_mean * sums[1];
@@ -191,31 +158,13 @@ void PolonskyKeer::advance(StepContext &c) {
     // New pressures: down the direction on the contact set, clipped at zero; points out of
     // contact that penetrate join it (and the next direction starts afresh).
     const auto upd = grid.sum_points<2>([&](int64_t i0, int64_t i1, double *acc) {
-        double total = 0.0, joined = 0.0;
-#pragma omp simd reduction(+ : total, joined)
-        for (int64_t i = i0; i < i1; ++i) {
-            const double g = u[i] + a - h[i];
-            const bool in = p[i] > 0.0;
-            const bool join = !in && g < 0.0;
-            const double pn = in ? std::max(p[i] - tau * t[i], 0.0) : (join ? -tau * g : 0.0);
-            p[i] = pn;
-            total += pn;
-            joined += join ? 1.0 : 0.0;
-        }
-        acc[0] += total;
-        acc[1] += joined;
+        kernels::use().pk_update(p + i0, u + i0, h + i0, t + i0, a, tau, i1 - i0, acc);
     });
     conjugate_ = !(upd[1] > 0.0);
     const double n = static_cast<double>(grid.real_size());
-    displacement(c, (upd[0] > 0.0) ? c.params.sigma0 * n / upd[0] : 1.0);
-    // The surface of this pressure: on the substrate where it carries pressure (its gap there is
-    // zero but for the iteration's error), elsewhere z = max(h, u + c).
-    double *__restrict z = c.fields.z.data();
-    const double a_new = approach_;
-    grid.for_points([&](int64_t i0, int64_t i1) {
-#pragma omp simd
-        for (int64_t i = i0; i < i1; ++i) z[i] = (p[i] > 0.0) ? h[i] : std::max(h[i], u[i] + a_new);
-    });
+    // The new displacement, and the surface of this pressure: on the substrate where it carries
+    // pressure (its gap there is zero but for the iteration's error), elsewhere z = max(h, u + c).
+    displacement(c, (upd[0] > 0.0) ? c.params.sigma0 * n / upd[0] : 1.0, true);
 }
 
 }  // namespace gfmd

@@ -41,7 +41,8 @@ public:
 
 private:
     void start(StepContext &c);                           // p from the current configuration
-    void displacement(const StepContext &c, double scale);  // u = scale G p, then c_, g_now_
+    // p *= scale, u = G p, then approach_, g_now_; with surface, z of the pressure too (pk.cpp)
+    void displacement(const StepContext &c, double scale, bool surface);
     RealBuffer p_, u_;   // pressure and its displacement G p (u_ is recomputed, never saved)
     bool fresh_ = true;  // the next advance starts from the configuration's contact pressures
     bool u_valid_ = false;

@@ -1,5 +1,5 @@
-// The element-wise passes (src/kernels.hpp: the completion, the stiffness, the FIRE updates and the
-// surface CG's passes) of both builds against a plain scalar transcription of
+// The element-wise passes (src/kernels.hpp: the completion, the stiffness, the FIRE updates, the
+// surface CG's and Polonsky & Keer's passes) of both builds against a plain scalar transcription of
 // their definition, and against each other, bit for bit: every length of a block's tail (0 .. 40
 // points, and whole blocks of 16384 and 16387), with and without adhesion, with points in
 // contact, on the wall and below it, and forces of both signs.  The scalar reference adds point i
@@ -215,6 +215,98 @@ struct CgReference {
     }
 };
 
+// Polonsky & Keer's passes on the data: pressures in contact where f > 0, u = z, a negative
+// approach (points on the wall and outside the set penetrate and join), the direction (beta = 0.4),
+// the sums, the update (tau = 0.7), the scaling, the approach's sums, the gap with and without the
+// surface, and the compliance in Fourier space; every array and sum appended to out.
+constexpr double kPkApproach = -0.05;
+
+template <class Build>
+void run_pk(const Build &b, const Data &d, int64_t n, std::vector<double> &out) {
+    std::vector<double> p(n), r(n), t = d.v, z = d.z;
+    for (int64_t i = 0; i < n; ++i) {
+        p[i] = d.f[i] > 0.0 ? d.f[i] : 0.0;
+        r[i] = 3.0 * d.v[i] + d.f[i];
+    }
+    const double *u = d.z.data(), *h = d.h.data(), a = kPkApproach;
+    double acc[9] = {};
+    b.pk_direction(p.data(), u, h, t.data(), a, 0.4, n);
+    b.pk_sums(p.data(), r.data(), t.data(), u, h, a, n, acc);
+    b.pk_update(p.data(), u, h, t.data(), a, 0.7, n, acc + 4);
+    b.pk_scale(p.data(), 1.3, n);
+    b.pk_approach(p.data(), u, h, n, acc + 6);
+    b.pk_gap(p.data(), u, h, z.data(), a, n, acc + 8);
+    b.pk_gap(p.data(), u, h, nullptr, a, n, acc + 8);
+    std::vector<std::complex<double>> work(static_cast<std::size_t>(n));
+    for (int64_t i = 0; i < n; ++i) work[i] = {d.f[i], d.v[i]};
+    b.pk_scale_modes(work.data(), h /* positive and negative "stiffness" */, 0, 1, n, 1.0 / 3.0);
+    for (const auto *x : {&p, &t, &z}) out.insert(out.end(), x->begin(), x->end());
+    for (const auto &w : work) {
+        out.push_back(w.real());
+        out.push_back(w.imag());
+    }
+    out.insert(out.end(), acc, acc + 9);
+}
+
+// Their definition, one point at a time (in the set where p > 0, the gap g = (u + a) - h).
+struct PkReference {
+    using Lanes = double[kLanes];
+    static void lanes_to(const Lanes &lanes, double *acc) { CgReference::lanes_to(lanes, acc); }
+    void pk_direction(const double *p, const double *u, const double *h, double *t, double a, double beta,
+                      int64_t n) const {
+        for (int64_t i = 0; i < n; ++i) t[i] = p[i] > 0.0 ? ((u[i] + a) - h[i]) + beta * t[i] : 0.0;
+    }
+    void pk_sums(const double *p, const double *r, const double *t, const double *u, const double *h, double a,
+                 int64_t n, double *acc) const {
+        Lanes l[4] = {};
+        for (int64_t i = 0; i < n; ++i)
+            if (p[i] > 0.0) {
+                l[0][i % kLanes] += r[i];
+                l[1][i % kLanes] += t[i];
+                l[2][i % kLanes] += r[i] * t[i];
+                l[3][i % kLanes] += ((u[i] + a) - h[i]) * t[i];
+            }
+        for (int k = 0; k < 4; ++k) lanes_to(l[k], acc + k);
+    }
+    void pk_update(double *p, const double *u, const double *h, const double *t, double a, double tau, int64_t n,
+                   double *acc) const {
+        Lanes l[2] = {};
+        for (int64_t i = 0; i < n; ++i) {
+            const double g = (u[i] + a) - h[i];
+            const bool in = p[i] > 0.0, join = !in && g < 0.0;
+            p[i] = in ? std::max(p[i] - tau * t[i], 0.0) : (join ? -tau * g : 0.0);
+            l[0][i % kLanes] += p[i];
+            l[1][i % kLanes] += join ? 1.0 : 0.0;
+        }
+        for (int k = 0; k < 2; ++k) lanes_to(l[k], acc + k);
+    }
+    void pk_scale(double *p, double scale, int64_t n) const {
+        for (int64_t i = 0; i < n; ++i) p[i] *= scale;
+    }
+    void pk_approach(const double *p, const double *u, const double *h, int64_t n, double *acc) const {
+        Lanes l[2] = {};
+        for (int64_t i = 0; i < n; ++i)
+            if (p[i] > 0.0) {
+                l[0][i % kLanes] += h[i] - u[i];
+                l[1][i % kLanes] += 1.0;
+            }
+        for (int k = 0; k < 2; ++k) lanes_to(l[k], acc + k);
+    }
+    void pk_gap(const double *p, const double *u, const double *h, double *z, double a, int64_t n, double *acc) const {
+        Lanes l = {};
+        for (int64_t i = 0; i < n; ++i) {
+            const double g = (u[i] + a) - h[i];
+            if (p[i] > 0.0) l[i % kLanes] += g * g;
+            if (z) z[i] = p[i] > 0.0 ? h[i] : std::max(h[i], u[i] + a);
+        }
+        lanes_to(l, acc);
+    }
+    void pk_scale_modes(std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1, int64_t nxh,
+                        double inv_n) const {
+        for (int64_t i = r0 * nxh; i < r1 * nxh; ++i) work[i] *= stiff[i] > 0.0 ? inv_n / stiff[i] : 0.0;
+    }
+};
+
 void run_build(const gfmd::kernels::Table &b, int64_t n, bool adhesive, const Data &d, std::vector<double> &f_out,
                std::vector<double> &zv_out, double *acc, double &energy) {
     const Completion in{d.z.data(), d.h.data(), d.v.data(), 0.05, adhesive ? 5e-4 : 0.0, 1.0 / 0.7, 1.0 / 0.0505};
@@ -251,6 +343,25 @@ const gfmd::kernels::Table base = GFMD_KERNEL_TABLE(kernels_base, "baseline");
 #ifdef GFMD_KERNELS_V3
 const gfmd::kernels::Table v3 = GFMD_KERNEL_TABLE(kernels_v3, "x86-64-v3");
 #endif
+
+// run(build, out) with the reference against the baseline, and the baseline against x86-64-v3
+// where the CPU runs it, bit for bit.
+template <class Run, class Reference>
+void compare_builds(const char *what, int64_t n, Run &&run, const Reference &ref, bool have_v3) {
+    std::vector<double> out_ref, out_base;
+    run(ref, out_ref);
+    run(base, out_base);
+    expect_same(what, n, out_ref.data(), out_base.data(), static_cast<int64_t>(out_ref.size()));
+#ifdef GFMD_KERNELS_V3
+    if (have_v3) {
+        std::vector<double> out_v3;
+        run(v3, out_v3);
+        expect_same(what, n, out_base.data(), out_v3.data(), static_cast<int64_t>(out_base.size()));
+    }
+#else
+    (void)have_v3;
+#endif
+}
 
 }  // namespace
 
@@ -318,18 +429,11 @@ int main() {
                 std::printf("FAIL contacts, n = %" PRId64 ": %g against %" PRId64 "\n", n, acc_base[5] - 0.25, touching);
                 ++failures;
             }
-            if (!adhesive) {  // the CG's passes: no adhesion in them
-                std::vector<double> cg_ref, cg_base;
-                run_cg(CgReference{}, d, n, cg_ref);
-                run_cg(base, d, n, cg_base);
-                expect_same("CG", n, cg_ref.data(), cg_base.data(), static_cast<int64_t>(cg_ref.size()));
-#ifdef GFMD_KERNELS_V3
-                if (have_v3) {
-                    std::vector<double> cg_v3;
-                    run_cg(v3, d, n, cg_v3);
-                    expect_same("CG", n, cg_base.data(), cg_v3.data(), static_cast<int64_t>(cg_base.size()));
-                }
-#endif
+            if (!adhesive) {  // the CGs' passes: no adhesion in them
+                compare_builds("CG", n, [&](const auto &b, std::vector<double> &out) { run_cg(b, d, n, out); },
+                               CgReference{}, have_v3);
+                compare_builds("PK", n, [&](const auto &b, std::vector<double> &out) { run_pk(b, d, n, out); },
+                               PkReference{}, have_v3);
             }
 #ifdef GFMD_KERNELS_V3
             if (have_v3) {
