@@ -226,8 +226,9 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
 /**
  * Method used by gfmd_step() and gfmd_relax(): GFMD_SOLVER_AUTO (the default: for a non-adhesive
  * body under pressure control GFMD_SOLVER_CG on a half-space or bonded layer whose long waves are
- * not too soft, S sqrt(nx ny) <= 4e4 with S = k_halfspace(q_max)/k_min -- a bonded coating of any
- * Poisson's ratio, a half-space up to about 240^2 -- and on every layer on a fluid foundation
+ * not too soft, S sqrt(nx ny) <= 4e4 on a half-space (up to about 240^2) and <= 8e4 on a bonded
+ * layer (w = 8 a up to about 5400^2, w = 32 a up to about 1300^2 at nu = 0.3), with
+ * S = k_halfspace(q_max)/k_min -- and on every layer on a fluid foundation
  * (preconditioned there), except that from nx ny >= 2048^2 on a load that starts from a deformed
  * surface (not flat: a load continuing from the last equilibrium) takes GFMD_SOLVER_MASS_FIRE
  * there; with adhesion GFMD_SOLVER_MASS_FIRE on a layer on a fluid foundation

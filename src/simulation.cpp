@@ -294,6 +294,13 @@ void Simulation::set_damping(double eta) {
 // A/A0 ~ 0.1, 128^2-1024^2), CG was faster where S sqrt(N) < 4e4 and as fast or slower beyond
 // (ties: the 256^2 half-space, S sqrt(N) = 4.6e4; a bonded layer w = 32 at 1024^2, 5.9e4).
 constexpr double kAutoCgBound = 4e4;
+// A bonded layer's iterations grow less with S sqrt(N) than the half-space's (w = 8 at 2048^2,
+// 3.0e4: 16 iterations; the 256^2 half-space, 4.6e4: 40).  Once the pressure CG's passes were
+// vectorized (docs/performance.md, "The pressure CG's passes"; gfmd_bench --bonded 0.3 and 0.5,
+// one thread, to 0.1 %), CG took 0.85-0.94x FIRE's time on w = 32 at 1024^2 (6.1e4; nu = 0.5,
+// 4.7e4: 0.77-0.88x), 0.29x on w = 8 at 2048^2 and 1.19x on w = 32 at 2048^2 (1.2e5); the
+// half-space stayed FIRE's at 256^2 (1.12x).  So bonded layers take CG up to 8e4, between those.
+constexpr double kAutoCgBoundBonded = 8e4;
 // On a layer on a fluid foundation CG iterates on the surface, preconditioned by the inverse
 // stiffness (cg.cpp).  Without adhesion, from flat (gfmd_bench --loads 0.002,0.01,0.05, one
 // thread) it took 0.17-0.54x FIRE's time at 256^2 and 512^2 (W = 0.0625 ... 4) and was faster
@@ -348,7 +355,8 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
     }
     if (!quadratic) return GFMD_SOLVER_FIRE;
     const double cost = long_wave_softness(grid_, body_, params_.e_star) * std::sqrt(static_cast<double>(grid_.real_size()));
-    return (cost <= kAutoCgBound) ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE;
+    const double bound = (params_.kind == GFMD_GREEN_LAYER_BONDED) ? kAutoCgBoundBonded : kAutoCgBound;
+    return (cost <= bound) ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE;
 }
 
 bool Simulation::surface_flat() const {

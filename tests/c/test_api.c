@@ -259,8 +259,13 @@ static void automatic_choice(void **state) {
     /* half-space: S sqrt(N) = 0.7 n^2, CG up to 4e4 (n = 128: 1.2e4; n = 512: 1.9e5) */
     assert_int_equal(chosen(128, GFMD_GREEN_HALFSPACE, 0.0, 0.05, 0.0, 0), GFMD_SOLVER_CG);
     assert_int_equal(chosen(512, GFMD_GREEN_HALFSPACE, 0.0, 0.05, 0.0, 0), GFMD_SOLVER_FIRE);
-    /* a bonded coating, w = 8: S = 15, whatever the grid up to 2600^2 */
+    /* a bonded coating (nu = 0.3): CG up to S sqrt(N) = 8e4; w = 8: S = 15, up to about 5400^2 */
     assert_int_equal(chosen(512, GFMD_GREEN_LAYER_BONDED, 8.0, 0.05, 0.0, 0), GFMD_SOLVER_CG);
+    /* w = 64 at 512^2 (as w = 32 at 1024^2): 6.1e4, above the half-space's bound, CG; w = 128:
+     * 1.2e5, FIRE; the 256^2 half-space, 4.6e4 (between the two bounds): FIRE */
+    assert_int_equal(chosen(512, GFMD_GREEN_LAYER_BONDED, 64.0, 0.05, 0.0, 0), GFMD_SOLVER_CG);
+    assert_int_equal(chosen(512, GFMD_GREEN_LAYER_BONDED, 128.0, 0.05, 0.0, 0), GFMD_SOLVER_FIRE);
+    assert_int_equal(chosen(256, GFMD_GREEN_HALFSPACE, 0.0, 0.05, 0.0, 0), GFMD_SOLVER_FIRE);
     /* a thin sheet on a fluid foundation (w = 1, n = 128: f(q_min w) = 5e4) without adhesion: the
      * preconditioned CG at every load; with adhesion at a low load (Persson's A/A0 < 0.1) the
      * mass-weighted approach then FIRE, FIRE above */
