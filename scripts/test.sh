@@ -61,16 +61,30 @@ for t in "$root"/build/tests/test_*; do
   case " ${required[*]} " in *" $(basename "$t") "*) ;; *) binaries+=("$t") ;; esac
 done
 binaries+=("$root/build/fuzz/fuzz_replay")
+# valgrind_one BINARY: memcheck on one test binary, its output in $logs/NAME.log and its exit
+# status in $logs/NAME.status (the runs go $jobs at a time: valgrind uses one core each)
+valgrind_one() {
+  local t="$1" name args=()
+  name="$(basename "$t")"
+  [ "$name" = fuzz_replay ] && args=("$root/fuzz/corpus" "$root/fuzz/regressions")
+  local status=0
+  (cd "$root/build/tests" && OMP_NUM_THREADS=1 valgrind -q --error-exitcode=99 --leak-check=full \
+      --errors-for-leak-kinds=definite,indirect --show-leak-kinds=definite,indirect \
+      "$t" "${args[@]}" >"$logs/$name.log" 2>&1) || status=$?
+  echo "$status" >"$logs/$name.status"
+}
+for t in "${binaries[@]}"; do
+  rm -f "$logs/$(basename "$t").status"
+  [ -x "$t" ] || continue
+  while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do wait -n || true; done
+  valgrind_one "$t" &
+done
+wait
 for t in "${binaries[@]}"; do
   name="$(basename "$t")"
   if [ ! -x "$t" ]; then
-    echo "valgrind $name: MISSING ($t was not built)"; failed=$((failed + 1)); continue
-  fi
-  args=()
-  [ "$name" = fuzz_replay ] && args=("$root/fuzz/corpus" "$root/fuzz/regressions")
-  if (cd "$root/build/tests" && OMP_NUM_THREADS=1 valgrind -q --error-exitcode=99 --leak-check=full \
-        --errors-for-leak-kinds=definite,indirect --show-leak-kinds=definite,indirect \
-        "$t" "${args[@]}" >"$logs/$name.log" 2>&1); then
+    echo "valgrind $name: MISSING ($t was not built)"; failed=$((failed + 1))
+  elif [ "$(cat "$logs/$name.status" 2>/dev/null)" = 0 ]; then
     echo "valgrind $name: clean"; passed=$((passed + 1))
   else
     echo "valgrind $name: FAILED"; tail -n 40 "$logs/$name.log"; failed=$((failed + 1))
