@@ -16,6 +16,9 @@
  *   gfmd_bench --first-load [--sizes 512,1024,2048] [--widths 0.0625,0.25] [--threads N] [--levels L] [--tol T]
  *                                a thin sheet's first load from flat, with and without adhesion,
  *                                by the default solver, mass-weighted FIRE and the multilevel start
+ *   gfmd_bench --sweep [--sizes 2048] [--widths 0.25,1,100] [--threads N]
+ *                                the study's continuing loads on each body by the approach then
+ *                                FIRE and by CG, with the default's choice
  *   gfmd_bench --big [--sigma0 S] [--threads 2] [--sizes 4096]
  *                                one W = 1 layer from flat to the default tolerance at 4096^2
  *
@@ -301,6 +304,71 @@ static double persson_load(gfmd_sim *s, double area) {
     return 0.5 * (lo + hi) * sqrt(2.0 * v);
 }
 
+/* --sweep: the study's load sweep on one body (gfmd_paper: Persson's A/A0 = 0.004 ... 0.4, each
+ * load continuing from the last equilibrium), bench_body's substrate (at 2048^2 the one of
+ * gfmd_paper --full: lambda_r = n a/8, seed 2016), without adhesion.  The first load is relaxed
+ * once, untimed, by the default solver (from 3 coarser grids at >= 2048^2, flat below, as the study
+ * does); from that equilibrium the nine continuing loads are relaxed twice, each time on a clone:
+ * by the approach then FIRE (plain FIRE on the half-space) and by CG.  Prints their steps and
+ * seconds, the default's choice for a continuing load, and A/A0 at the last load of each. */
+static int sweep_table(const double *sizes, int nsizes, const double *widths, int nwidths, int threads) {
+    static const double targets[10] = {0.004, 0.008, 0.016, 0.03, 0.05, 0.08, 0.12, 0.18, 0.27, 0.4};
+    printf("gfmd %s: the study's continuing loads (Persson A/A0 = 0.008 ... 0.4 after the first load 0.004), "
+           "layers on a fluid foundation (w = 4 W a), H = 0.8, lambda_s = 4a, lambda_r = n a/8, seed 2016, "
+           "%d thread(s), default tolerance\n", gfmd_version(), threads);
+    printf("%5s %7s %9s %9s | %7s %8s %8s | %7s %8s %8s | %7s\n", "n", "W", "f(qmin w)", "auto", "m+FIRE", "s", "A/A0",
+           "CG its", "s", "A/A0", "CG/FIRE");
+    for (int a = 0; a < nsizes; ++a)
+        for (int b = 0; b < nwidths; ++b) {
+            const int n = (int)sizes[a];
+            const double W = widths[b];
+            gfmd_sim *s = bench_body(n, W, 0.01, GFMD_SOLVER_AUTO);
+            int32_t st = gfmd_set_threads(s, threads);
+            double loads[10], f = 1.0;
+            for (int k = 0; k < 10; ++k) loads[k] = persson_load(s, targets[k]);
+            if (W > 0) gfmd_green_factor(GFMD_GREEN_LAYER_FLUID, 2.0 * 3.141592653589793 / n * 4.0 * W, 0.0, &f);
+            int64_t steps = 0, coarse = 0;
+            if (st == GFMD_OK) st = gfmd_set_pressure(s, loads[0]);
+            if (st == GFMD_OK)
+                st = n >= 2048 ? gfmd_relax_multilevel(s, 0.0, 10000000, 4, &steps, &coarse)
+                               : gfmd_relax(s, 0.0, 10000000, &steps);
+            if (st != GFMD_OK) die(s, st, "first load");
+            int32_t choice = -1;
+            gfmd_sim *c = NULL;
+            if ((st = gfmd_sim_clone(s, &c)) != GFMD_OK) die(s, st, "clone");
+            if ((st = gfmd_set_pressure(c, loads[1])) != GFMD_OK) die(c, st, "pressure");
+            gfmd_get_solver(c, &choice);
+            gfmd_sim_destroy(&c);
+            const int32_t solvers[2] = {W > 0 ? GFMD_SOLVER_MASS_FIRE : GFMD_SOLVER_FIRE, GFMD_SOLVER_CG};
+            long long total[2] = {0, 0};
+            double secs[2] = {0, 0}, area[2] = {0, 0};
+            for (int k = 0; k < 2; ++k) {
+                if ((st = gfmd_sim_clone(s, &c)) != GFMD_OK) die(s, st, "clone");
+                if ((st = gfmd_set_solver(c, solvers[k])) != GFMD_OK) die(c, st, "solver");
+                const double t0 = now();
+                for (int l = 1; l < 10; ++l) {
+                    if ((st = gfmd_set_pressure(c, loads[l])) != GFMD_OK) die(c, st, "pressure");
+                    if ((st = gfmd_relax(c, 0.0, 10000000, &steps)) != GFMD_OK) die(c, st, "relax");
+                    total[k] += (long long)steps;
+                }
+                secs[k] = now() - t0;
+                gfmd_get_contact_area(c, &area[k]);
+                gfmd_sim_destroy(&c);
+            }
+            gfmd_sim_destroy(&s);
+            printf("%5d %7g %9.3g %9s | %7lld %8.2f %8.5f | %7lld %8.2f %8.5f | %7.2f\n", n, W, f, solver_name(choice),
+                   total[0], secs[0], area[0], total[1], secs[1], area[1], secs[1] / secs[0]);
+            fflush(stdout);
+            /* both stop at the default tolerance of the force residual, not in the same state: their
+             * contact sets may differ by a few points (1 % is 40 points of 64^2 at A/A0 ~ 0.1) */
+            if (!(fabs(area[1] - area[0]) <= 0.01 * area[0])) {
+                fprintf(stderr, "gfmd_bench: the two solvers disagree on A/A0 at the last load\n");
+                return 1;
+            }
+        }
+    return 0;
+}
+
 /* --first-load: a thin sheet's first load from flat (the study's first load: Persson's A/A0 =
  * 0.004), without and with adhesion (gamma0 = 5e-4, rho = a), before and after each lever the
  * library has: FIRE (before), mass-weighted FIRE, the multilevel start (--levels, 3 unless given;
@@ -449,7 +517,7 @@ static int contention_table(const double *sizes, int nsizes) {
 int main(int argc, char **argv) {
     double sizes[8] = {256, 512, 1024, 2048}, widths[8] = {0, 0.5, 1, 4};
     int nsizes = 4, nwidths = 4, threads = 1, cg = 1, alt = 1, contention = 0, multilevel = 0, nloads = 0, big = 0,
-        first_load = 0, threads_given = 0, sizes_given = 0, widths_given = 0, sigma0_given = 0, adhesion = 0;
+        first_load = 0, sweep = 0, threads_given = 0, sizes_given = 0, widths_given = 0, sigma0_given = 0, adhesion = 0;
     double loads[8];
     double cg_seconds = 120.0, sigma0 = 0.05, bonded_nu = NAN, first_tol = 0.0;
     int levels = 3;
@@ -458,6 +526,7 @@ int main(int argc, char **argv) {
         if (!strcmp(argv[i], "--sizes") && i + 1 < argc) nsizes = parse_list(argv[++i], sizes, 7), sizes_given = 1;
         else if (!strcmp(argv[i], "--big")) big = 1;
         else if (!strcmp(argv[i], "--first-load")) first_load = 1;
+        else if (!strcmp(argv[i], "--sweep")) sweep = 1;
         else if (!strcmp(argv[i], "--levels") && i + 1 < argc) levels = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--tol") && i + 1 < argc) first_tol = atof(argv[++i]), first_tol = first_tol > 0.0 ? first_tol : -1.0;
         else if (!strcmp(argv[i], "--widths") && i + 1 < argc) nwidths = parse_list(argv[++i], widths, 8), widths_given = 1;
@@ -481,7 +550,7 @@ int main(int argc, char **argv) {
         if (solver < 0 || !(sigma0 > 0.0) || levels < 1 || first_tol < 0.0) {
             fprintf(stderr, "usage: %s [--sizes 256,512,...] [--big] [--widths 0,0.5,1,4] [--threads N] "
                             "[--cg-seconds S] [--no-cg] [--no-alt] [--sigma0 S] [--solver auto|fire|mass|mass+fire|verlet|cg] "
-                            "[--bonded NU] [--adhesion] | --contention | --loads L,.. | --multilevel | --first-load [--levels L] [--tol T] | --big\n", argv[0]);
+                            "[--bonded NU] [--adhesion] | --contention | --sweep | --loads L,.. | --multilevel | --first-load [--levels L] [--tol T] | --big\n", argv[0]);
             return 2;
         }
     }
@@ -496,6 +565,11 @@ int main(int argc, char **argv) {
         const double thin[2] = {0.0625, 0.25}, first_sizes[3] = {512, 1024, 2048};
         return first_load_table(sizes_given ? sizes : first_sizes, sizes_given ? nsizes : 3, widths_given ? widths : thin,
                                 widths_given ? nwidths : 2, threads < 1 ? 1 : threads, levels, first_tol);
+    }
+    if (sweep) {
+        const double sweep_sizes[1] = {2048}, sweep_widths[3] = {0.25, 1, 100};
+        return sweep_table(sizes_given ? sizes : sweep_sizes, sizes_given ? nsizes : 1,
+                           widths_given ? widths : sweep_widths, widths_given ? nwidths : 3, threads < 1 ? 1 : threads);
     }
     if (nloads > 0) return loads_table(sizes, nsizes, widths, nwidths, loads, nloads);
     if (multilevel) return multilevel_table(sizes, nsizes, widths, nwidths, sigma0, solver);
