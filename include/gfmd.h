@@ -231,7 +231,8 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * S = k_halfspace(q_max)/k_min -- and on every layer on a fluid foundation
  * (preconditioned there), except that from nx ny >= 2048^2 on a load that starts from a deformed
  * surface (not flat: a load continuing from the last equilibrium) takes GFMD_SOLVER_MASS_FIRE
- * there; with adhesion GFMD_SOLVER_MASS_FIRE on a layer on a fluid foundation
+ * there unless the layer is of middle width, f(q_min w) >= 1e4 and q_max w >= 6 with
+ * q_max = pi sqrt(2)/a (then CG); with adhesion GFMD_SOLVER_MASS_FIRE on a layer on a fluid foundation
  * with f(q_min w) >= 2e4 (W <= 0.5 at 256^2, W <= 4 at 2048^2) at a load where Persson's
  * A/A0 < 0.1; GFMD_SOLVER_FIRE otherwise; re-chosen whenever the body, the substrate, the
  * adhesion, the load or the load control changes, at gfmd_reset() and on each grid of

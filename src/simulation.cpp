@@ -320,13 +320,23 @@ constexpr double kAutoCgBoundBonded = 8e4;
 // surface takes the approach then FIRE (GFMD_SOLVER_MASS_FIRE); a flat surface (a first load)
 // takes CG at every size.  Measured with the rule (five bodies of --full, full.md): W = 100,
 // 0.25, 0.125, 0.0625 0.42-0.92x the all-CG seconds, but W = 1 1.5x (its high loads are CG's):
-// the middle widths lose; a rule that keeps them on CG is open.  The grids of a multilevel start
+// the middle widths lost, hence the bounds below.  The grids of a multilevel start
 // above the coarsest start from an interpolated, deformed surface: relax_multilevel chooses again
 // for them (until then a first load's CG, chosen for the flat surface, ran on every grid: in the
 // default --full run of 2026-11-25 the thin sheets' multilevel first loads, W = 0.088-0.044, took
 // 3.6-4.5x the seconds of the all-FIRE ones of the 5205.9 s run, where the continuing loads took
 // 2.2-2.8x, same steps, on that slower instance; docs/paper/full.md).
 constexpr double kAutoContinueFirePoints = 2048.0 * 2048.0;
+// The middle widths, measured once both solvers' passes were built for AVX2 (gfmd_bench --sweep
+// --sizes 2048: the study's nine continuing loads on --full's substrate, one thread, two bodies
+// side by side; docs/performance.md "The study's continuing loads at 2048^2"): CG took 0.64-0.66x
+// the approach then FIRE's seconds on W = 0.5, 1, 4 (f(q_min w) = 2.6e7, 3.3e6, 5.1e4; q_max w =
+// 8.9 ... 71), but 0.97x on W = 10 (f = 3.3e3), 2.38x on W = 100 (f = 4.45) and 1.01x on W = 0.25
+// (q_max w = 4.4, w = a).  So a continuing load at >= 2048^2 stays CG's on a layer whose longest
+// wave is plate-like, f(q_min w) >= 1e4, and which is not thinner than the grid resolves,
+// q_max w >= 6 (q_max = pi sqrt(2)/a, the grid's corner): both bounds between the rows above.
+constexpr double kAutoContinueCgSoftness = 1e4;
+constexpr double kAutoContinueCgThickness = 6.0;
 // With adhesion (CG minimizes the quadratic problem only), at most 100 mass-weighted FIRE steps
 // after each restart, then FIRE (GFMD_SOLVER_MASS_FIRE), where the longest wave is much softer
 // than on a half-space, f(q_min w) = k_halfspace(q_min)/k(q_min) >= 2e4, and the load is low,
@@ -347,7 +357,11 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
     if (params_.kind == GFMD_GREEN_LAYER_FLUID) {
         if (quadratic) {
             const bool big = static_cast<double>(grid_.real_size()) >= kAutoContinueFirePoints;
-            return (big && !surface_flat()) ? GFMD_SOLVER_MASS_FIRE : GFMD_SOLVER_CG;
+            if (!big || surface_flat()) return GFMD_SOLVER_CG;
+            const double qx = grid_.qx(grid_.nx() / 2), qy = grid_.qy(grid_.ny() / 2);
+            const bool middle = longest_wave_softness(grid_, body_, params_.e_star) >= kAutoContinueCgSoftness &&
+                                std::sqrt(qx * qx + qy * qy) * params_.width >= kAutoContinueCgThickness;
+            return middle ? GFMD_SOLVER_CG : GFMD_SOLVER_MASS_FIRE;
         }
         const double area = gfmd::persson_contact_area(gfmd::persson_variance(grid_, body_, fields_), params_.sigma0);
         const bool soft = longest_wave_softness(grid_, body_, params_.e_star) >= kAutoApproachSoftness;

@@ -301,8 +301,11 @@ static void automatic_choice(void **state) {
 }
 
 /* From 2048^2 on, a layer on a fluid foundation without adhesion takes CG for a load that starts
- * from a flat surface and the approach then FIRE for one that continues from a deformed surface
- * (the rule of gfmd_set_solver(), measured in docs/paper/full.md); at 1024^2 CG either way.  The
+ * from a flat surface and, for one that continues from a deformed surface, CG on the middle widths
+ * (f(q_min w) >= 1e4 and q_max w >= 6: w = 4 a) and the approach then FIRE on thinner (w = 0.5 a:
+ * q_max w = 2.2) and thicker layers (w = 64 a at 2048^2: f(q_min w) = 800; w = 16 a: 5.1e4 is CG's)
+ * (the rule of gfmd_set_solver(), measured in docs/paper/full.md and docs/performance.md); at
+ * 1024^2 CG either way.  The
  * same for the finest grid of a multilevel start, which starts from an interpolated surface.  A
  * 2048^2 grid costs tens of seconds under valgrind: natively and under the sanitizers only. */
 static void automatic_choice_when_continuing(void **state) {
@@ -330,7 +333,15 @@ static void automatic_choice_when_continuing(void **state) {
         TS_OK(s, gfmd_step(s, 2));
         TS_OK(s, gfmd_set_pressure(s, 0.02));
         TS_OK(s, gfmd_get_solver(s, &solver));
-        assert_int_equal(solver, n >= 2048 ? GFMD_SOLVER_MASS_FIRE : GFMD_SOLVER_CG);
+        assert_int_equal(solver, GFMD_SOLVER_CG); /* a middle width continues with CG */
+        const double other_widths[3] = {0.5, 16.0, 64.0}; /* thin: q_max w < 6; thick: f >= 1e4, < 1e4 */
+        const int32_t at_2048[3] = {GFMD_SOLVER_MASS_FIRE, GFMD_SOLVER_CG, GFMD_SOLVER_MASS_FIRE};
+        for (int w = 0; w < 3; ++w) {
+            TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, other_widths[w])); /* the surface stays */
+            TS_OK(s, gfmd_get_solver(s, &solver));
+            assert_int_equal(solver, n >= 2048 ? at_2048[w] : GFMD_SOLVER_CG);
+        }
+        TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 4.0));
         TS_OK(s, gfmd_reset(s)); /* flat again */
         TS_OK(s, gfmd_get_solver(s, &solver));
         assert_int_equal(solver, GFMD_SOLVER_CG);
