@@ -331,8 +331,8 @@ constexpr double kAutoContinueFirePoints = 2048.0 * 2048.0;
 // --sizes 2048: the study's nine continuing loads on --full's substrate, one thread, two bodies
 // side by side; docs/performance.md "The study's continuing loads at 2048^2"): CG took 0.64-0.66x
 // the approach then FIRE's seconds on W = 0.5, 1, 4 (f(q_min w) = 2.6e7, 3.3e6, 5.1e4; q_max w =
-// 8.9 ... 71), but 0.97x on W = 10 (f = 3.3e3), 2.38x on W = 100 (f = 4.45) and 1.01x on W = 0.25
-// (q_max w = 4.4, w = a).  So a continuing load at >= 2048^2 stays CG's on a layer whose longest
+// 8.9 ... 71), but 0.97x on W = 10 (f = 3.3e3), 2.38x on W = 100 (f = 4.45), 1.01x on W = 0.25
+// (q_max w = 4.4, w = a) and 1.29x on W = 0.177 (3.1).  So a continuing load at >= 2048^2 stays CG's on a layer whose longest
 // wave is plate-like, f(q_min w) >= 1e4, and which is not thinner than the grid resolves,
 // q_max w >= 6 (q_max = pi sqrt(2)/a, the grid's corner): both bounds between the rows above.
 constexpr double kAutoContinueCgSoftness = 1e4;
