@@ -169,23 +169,48 @@ void complete_forces(const Completion &in, double *f, int64_t n, double *acc) {
         complete<false>(in, f, n, acc);
 }
 
-double apply_stiffness(std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1,
-                                   int64_t nxh, double inv_n, double w_last) {
+namespace {
+// The modes of rows [r0, r1) of width nxh: the sum of k |Z|^2 over the full plane (column 0 and a
+// Nyquist column, weight w_last, once; the others twice, their k re^2 and k im^2 in kLanes lanes
+// of the row's interleaved doubles, the lanes added in order), per row, the rows in order; with
+// Scale, each mode *= -k inv_n on the way.
+template <bool Scale>
+inline __attribute__((always_inline)) double row_energies(std::complex<double> *work, const double *stiff, int64_t r0,
+                                                          int64_t r1, int64_t nxh, double inv_n, double w_last) {
     double energy = 0.0;
     for (int64_t r = r0; r < r1; ++r) {
-        std::complex<double> *row = work + r * nxh;
+        double *row = reinterpret_cast<double *>(work + r * nxh);  // re, im interleaved
         const double *krow = stiff + r * nxh;
-        // column 0 (and a Nyquist column) count once in the full-plane sum, the others twice
-        double e = krow[0] * std::norm(row[0]);
-        if (nxh > 1) e += (w_last - 2.0) * krow[nxh - 1] * std::norm(row[nxh - 1]);
-        row[0] *= -krow[0] * inv_n;
-        for (int64_t kx = 1; kx < nxh; ++kx) {
-            e += 2.0 * krow[kx] * std::norm(row[kx]);
-            row[kx] *= -krow[kx] * inv_n;
-        }
-        energy += e;
+        double e = krow[0] * std::norm(work[r * nxh]);
+        if (nxh > 1) e += (w_last - 2.0) * krow[nxh - 1] * std::norm(work[r * nxh + nxh - 1]);
+        if constexpr (Scale) work[r * nxh] *= -krow[0] * inv_n;
+        // columns 1 .. nxh - 1: 2 (nxh - 1) doubles, a quad holding two modes
+        Quad lanes[2] = {};
+        over_octets(2 * (nxh - 1), [&](auto full, int64_t i, int64_t m, int half) {
+            const double *k = krow + 1 + i / 2;
+            const double k0 = m > 0 ? k[0] : 0.0, k1 = m > 2 ? k[1] : 0.0;  // no k past the row
+            const Quad kk = {k0, k0, k1, k1};
+            const Quad d = load_some(full, row + 2 + i, m, 0.0);
+            lanes[half] += kk * (d * d);
+            if constexpr (Scale) store_some(full, row + 2 + i, d * (-kk * inv_n), m);
+        });
+        double pairs = 0.0;
+        add_lanes(lanes, &pairs);
+        energy += e + 2.0 * pairs;
     }
     return energy;
+}
+}  // namespace
+
+double apply_stiffness(std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1, int64_t nxh,
+                       double inv_n, double w_last) {
+    return row_energies<true>(work, stiff, r0, r1, nxh, inv_n, w_last);
+}
+
+double mode_energy(const std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1, int64_t nxh,
+                   double w_last) {
+    // row_energies<false> only reads the modes
+    return row_energies<false>(const_cast<std::complex<double> *>(work), stiff, r0, r1, nxh, 1.0, w_last);
 }
 
 void fire_update(const FireUpdate &u, double *__restrict z, double *__restrict v,

@@ -42,8 +42,9 @@ struct MassUpdate {
 
 // What each build provides.  apply_stiffness: the elastic stress in Fourier space of mode rows
 // [r0, r1) of width nxh, row *= -k inv_n, returning the energy sum of k |Z|^2 over the full plane
-// (column 0 and a Nyquist column, weight w_last, once; the others twice), per row in column order,
-// the rows in order.  mark_held: marks the points the wall holds (in contact, pushed into it) and
+// (column 0 and a Nyquist column, weight w_last, once; the others twice, their k re^2 and k im^2
+// summed in kLanes lanes per row), per row, the rows in order; mode_energy: the same sum without
+// the scaling (the surface CG's t.K.t).  mark_held: marks the points the wall holds (in contact, pushed into it) and
 // projects the force on the wall.  The surface CG's passes (SurfaceCg, cg.cpp), a point being held
 // where z <= h and f <= 0: cg_mask, zp = f where free, 0 where held; cg_scale_modes, the
 // preconditioner's Fourier rows *= inv_n / max(k, floor); cg_restrict, zp = 0 where held and
@@ -61,6 +62,8 @@ struct MassUpdate {
     void complete_forces(const kernels::Completion &in, double *f, int64_t n, double *acc);                   \
     double apply_stiffness(std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1, int64_t nxh, \
                            double inv_n, double w_last);                                                       \
+    double mode_energy(const std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1,          \
+                       int64_t nxh, double w_last);                                                            \
     void fire_update(const kernels::FireUpdate &u, double *z, double *v, const double *h, const double *f,      \
                      int64_t n);                                                                               \
     void mark_held(const double *z, const double *h, double *f, unsigned char *held, int64_t n);              \
@@ -98,7 +101,7 @@ namespace kernels {
 
 // X(ns, name) for every pass of the declarations above.
 #define GFMD_KERNEL_NAMES(X, ns)                                                                            \
-    X(ns, complete_forces) X(ns, apply_stiffness) X(ns, fire_update) X(ns, mark_held) X(ns, mass_update)      \
+    X(ns, complete_forces) X(ns, apply_stiffness) X(ns, mode_energy) X(ns, fire_update) X(ns, mark_held) X(ns, mass_update)      \
     X(ns, cg_mask) X(ns, cg_scale_modes) X(ns, cg_restrict) X(ns, cg_direction) X(ns, cg_move)                \
     X(ns, pk_direction) X(ns, pk_sums) X(ns, pk_update) X(ns, pk_scale) X(ns, pk_approach) X(ns, pk_gap)       \
     X(ns, pk_scale_modes)

@@ -131,14 +131,7 @@ void SurfaceCg::advance(StepContext &c, RealBuffer *scratch) {
     const int64_t nxh = grid.nxh();
     const double w_last = grid.weight(nxh - 1);
     const double tkt = grid.sum_mode_rows<1>([&](int64_t y0, int64_t y1, double *acc) {
-        for (int64_t r = y0; r < y1; ++r) {
-            const std::complex<double> *row = work + r * nxh;
-            const double *krow = stiff + r * nxh;
-            double e = krow[0] * std::norm(row[0]);
-            if (nxh > 1) e += (w_last - 2.0) * krow[nxh - 1] * std::norm(row[nxh - 1]);
-            for (int64_t kx = 1; kx < nxh; ++kx) e += 2.0 * krow[kx] * std::norm(row[kx]);
-            acc[0] += e;
-        }
+        acc[0] += kernels::use().mode_energy(work, stiff, y0, y1, nxh, w_last);
     })[0];
     // dE/dalpha = -(A/N) r.t and d2E/dalpha2 = (A/N^2) tkt, so alpha = N r.t / tkt.  Without
     // elastic curvature along t (t uniform: no contact holds the body) the step ends at the wall.

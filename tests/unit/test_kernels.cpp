@@ -332,7 +332,35 @@ void run_build(const gfmd::kernels::Table &b, int64_t n, bool adhesive, const Da
         work[i] = {d.h[i % n], d.v[i % n]};
         stiff[i] = 1.0 + std::fabs(d.z[i % n]);
     }
-    energy = b.apply_stiffness(work.data(), stiff.data(), 0, rows, nxh, 1.0 / 7.0, (n % 2 == 0) ? 1.0 : 2.0);
+    const double w_last = (n % 2 == 0) ? 1.0 : 2.0;
+    // the energy's definition: per row, column 0 and the last once (the last with weight w_last),
+    // the others twice, k re^2 and k im^2 of column kx >= 1 in lanes 2 (kx - 1) and 2 (kx - 1) + 1
+    // mod 8; the same sum without the scaling (mode_energy), then with it (apply_stiffness)
+    double reference = 0.0;
+    for (int64_t r = 0; r < rows; ++r) {
+        const std::complex<double> *row = work.data() + r * nxh;
+        const double *k = stiff.data() + r * nxh;
+        double e = k[0] * std::norm(row[0]);
+        if (nxh > 1) e += (w_last - 2.0) * k[nxh - 1] * std::norm(row[nxh - 1]);
+        double lanes[kLanes] = {};
+        for (int64_t j = 0; j < 2 * (nxh - 1); ++j) {
+            const double d = (j % 2 == 0) ? row[1 + j / 2].real() : row[1 + j / 2].imag();
+            lanes[j % kLanes] += k[1 + j / 2] * (d * d);
+        }
+        double pairs = 0.0;
+        for (const double x : lanes) pairs += x;
+        reference += e + 2.0 * pairs;
+    }
+    const double unscaled = b.mode_energy(work.data(), stiff.data(), 0, rows, nxh, w_last);
+    std::vector<std::complex<double>> scaled = work;  // each mode times -k inv_n
+    for (int64_t i = 0; i < nxh * rows; ++i) scaled[i] *= -stiff[i] * (1.0 / 7.0);
+    energy = b.apply_stiffness(work.data(), stiff.data(), 0, rows, nxh, 1.0 / 7.0, w_last);
+    expect_same("stiffness", n, reinterpret_cast<const double *>(scaled.data()),
+                reinterpret_cast<const double *>(work.data()), 2 * nxh * rows);
+    if (!same_bits(unscaled, reference) || !same_bits(energy, reference)) {
+        std::printf("FAIL mode energy, n = %" PRId64 ": %a, %a against %a\n", n, unscaled, energy, reference);
+        ++failures;
+    }
     for (const auto &w : work) {
         zv_out.push_back(w.real());
         zv_out.push_back(w.imag());
