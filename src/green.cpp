@@ -146,9 +146,13 @@ Body make_body(const FftGrid &grid, int32_t kind, double width, double e_star, d
     return b;
 }
 
-double long_wave_softness(const FftGrid &grid, const Body &body, double e_star) {
+double shortest_wave_q(const FftGrid &grid) {
     const double qx = grid.qx(grid.nx() / 2), qy = grid.qy(grid.ny() / 2);
-    return 0.5 * e_star * std::sqrt(qx * qx + qy * qy) / body.k_min;
+    return std::sqrt(qx * qx + qy * qy);
+}
+
+double long_wave_softness(const FftGrid &grid, const Body &body, double e_star) {
+    return 0.5 * e_star * shortest_wave_q(grid) / body.k_min;
 }
 
 double longest_wave_softness(const FftGrid &grid, const Body &body, double e_star) {

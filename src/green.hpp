@@ -22,6 +22,9 @@ struct Body {
 };
 Body make_body(const FftGrid &grid, int32_t kind, double width, double e_star, double nu);
 
+// |q| of the grid's corner mode (the shortest wave, pi sqrt(2)/a on a square grid of spacing a).
+double shortest_wave_q(const FftGrid &grid);
+
 // How much softer the body's softest mode is than a half-space's shortest wave on this grid,
 // k_hs(q_max) / k_min: 0.7 n for an n x n half-space, bounded on a bonded layer whatever the grid,
 // huge on a layer on a fluid foundation.  What the constrained CG's iteration count follows.

@@ -326,11 +326,17 @@ void cg_move(double *z, const double *h, const double *t, double alpha, bool to_
 // does not penetrate, so it joins nothing), which add nothing.
 namespace {
 inline __attribute__((always_inline)) QuadMask in_set(Quad p) { return p > 0.0; }
+// The gap (u + a) - h of the quad at i, its pads 0.
+template <class Full>
+inline __attribute__((always_inline)) Quad pk_gap_of(Full full, const double *u, const double *h, int64_t i, int64_t m,
+                                                     double a) {
+    return (load_some(full, u + i, m, 0.0) + a) - load_some(full, h + i, m, a);
+}
 }  // namespace
 
 void pk_direction(const double *p, const double *u, const double *h, double *t, double a, double beta, int64_t n) {
     over_octets(n, [&](auto full, int64_t i, int64_t m, int) {
-        const Quad g = (load_some(full, u + i, m, 0.0) + a) - load_some(full, h + i, m, a);
+        const Quad g = pk_gap_of(full, u, h, i, m, a);
         const Quad ti = g + beta * load_some(full, t + i, m, 0.0);
         store_some(full, t + i, select(in_set(load_some(full, p + i, m, 0.0)), ti), m);
     });
@@ -342,7 +348,7 @@ void pk_sums(const double *p, const double *r, const double *t, const double *u,
     over_octets(n, [&](auto full, int64_t i, int64_t m, int half) {
         const QuadMask in = in_set(load_some(full, p + i, m, 0.0));
         const Quad ri = load_some(full, r + i, m, 0.0), ti = load_some(full, t + i, m, 0.0);
-        const Quad g = (load_some(full, u + i, m, 0.0) + a) - load_some(full, h + i, m, a);
+        const Quad g = pk_gap_of(full, u, h, i, m, a);
         sr[half] += select(in, ri);
         st[half] += select(in, ti);
         srt[half] += select(in, ri * ti);
@@ -360,7 +366,7 @@ void pk_update(double *p, const double *u, const double *h, const double *t, dou
     Quad total[2] = {}, joined[2] = {};
     over_octets(n, [&](auto full, int64_t i, int64_t m, int half) {
         const Quad pi = load_some(full, p + i, m, 0.0);
-        const Quad g = (load_some(full, u + i, m, 0.0) + a) - load_some(full, h + i, m, a);
+        const Quad g = pk_gap_of(full, u, h, i, m, a);
         const QuadMask in = in_set(pi), join = ~in & (g < 0.0);
         const Quad down = pi - tau * load_some(full, t + i, m, 0.0);
         const Quad kept = blend(down < 0.0, zero, down);  // std::max(down, 0.0), NaN kept

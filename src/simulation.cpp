@@ -358,9 +358,8 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
         if (quadratic) {
             const bool big = static_cast<double>(grid_.real_size()) >= kAutoContinueFirePoints;
             if (!big || surface_flat()) return GFMD_SOLVER_CG;
-            const double qx = grid_.qx(grid_.nx() / 2), qy = grid_.qy(grid_.ny() / 2);
             const bool middle = longest_wave_softness(grid_, body_, params_.e_star) >= kAutoContinueCgSoftness &&
-                                std::sqrt(qx * qx + qy * qy) * params_.width >= kAutoContinueCgThickness;
+                                shortest_wave_q(grid_) * params_.width >= kAutoContinueCgThickness;
             return middle ? GFMD_SOLVER_CG : GFMD_SOLVER_MASS_FIRE;
         }
         const double area = gfmd::persson_contact_area(gfmd::persson_variance(grid_, body_, fields_), params_.sigma0);
