@@ -154,42 +154,59 @@ typedef struct {
     int64_t steps, steps_acc;
     double seconds, seconds_acc, peak_mb;
     int32_t active;
+    int converged; /* to tol within the step limit */
 } gfmd_run;
 
-/* From flat to the default tolerance: the steps and seconds, and those after which A/A0 stays within
- * 0.1 % of area_conv, counted to the step.  An untimed run, one step per call, finds that step
- * count k (the end of a call evaluates the forces, which CG otherwise does every third iteration
- * only, and snapshots the fields for "a failed call changes nothing": costs a relax in one call
- * does not pay); the timed run, from the same start, makes k steps in one call and relaxes on in a
- * second.  The iterates do not depend on where calls end, so both runs take the same steps (checked).
- * s is restarted at the start (reset + pressure). */
+/* From the start (reset + pressure, which restarts the solver's adaptive state) to tol, at most
+ * limit steps: the steps and seconds, and those after which A/A0 stays within 0.1 % of area_conv
+ * (NAN: of the run's own last value), counted to the step.  An untimed run, one step per call,
+ * finds that step count k (the end of a call evaluates the forces, which CG otherwise does every
+ * third iteration only, and snapshots the fields for "a failed call changes nothing": costs a relax
+ * in one call does not pay); the timed run, from the same start, makes k steps in one call and
+ * relaxes on in a second.  The iterates do not depend on where calls end, so both runs take the
+ * same steps (checked). */
 static void restart_run(gfmd_sim *s, double sigma0) {
     gfmd_reset(s);
-    gfmd_set_pressure(s, sigma0); /* restarts the solver's adaptive state */
+    gfmd_set_pressure(s, sigma0);
 }
 
-static gfmd_run timed_relax(gfmd_sim *s, int32_t solver, double sigma0, double area_conv) {
-    gfmd_run out = {0, -1, 0.0, -1.0, 0.0, -1};
+static gfmd_run timed_relax_to(gfmd_sim *s, int32_t solver, double sigma0, double area_conv, double tol, int64_t limit) {
+    gfmd_run out = {0, -1, 0.0, -1.0, 0.0, -1, 0};
     int32_t st;
     if ((st = gfmd_set_solver(s, solver)) != GFMD_OK) die(s, st, "solver");
     restart_run(s, sigma0);
     gfmd_get_solver(s, &out.active);
-    int64_t probe = 0, k = 1;
-    while (k > 0 && probe < 10000000) { /* a relax of at most one step: none once converged */
-        st = gfmd_relax(s, GFMD_DEFAULT_TOL, 1, &k);
+    int64_t probe = 0, k = 1, cap = 1 << 14;
+    double *trace = malloc(sizeof(double) * (size_t)cap); /* A/A0 after each step */
+    if (!trace) die(s, GFMD_ERR_NOMEM, "trace");
+    while (k > 0 && probe < limit) { /* a relax of at most one step: none once converged */
+        st = gfmd_relax(s, tol, 1, &k);
         if (st != GFMD_OK && st != GFMD_ERR_NOT_CONVERGED) die(s, st, "step");
-        probe += k;
-        double area = 0.0;
-        gfmd_get_contact_area(s, &area);
-        if (fabs(area - area_conv) > 1e-3 * area_conv) out.steps_acc = -1;
-        else if (out.steps_acc < 0) out.steps_acc = probe;
+        if (k == 0) break;
+        if (probe == cap && !(trace = realloc(trace, sizeof(double) * (size_t)(cap *= 2)))) die(s, GFMD_ERR_NOMEM, "trace");
+        gfmd_get_contact_area(s, &trace[probe++]);
     }
+    double residual = 1.0;
+    gfmd_get_residual(s, &residual);
+    out.converged = (k == 0) || residual <= tol;
+    double final_area = 0.0;
+    gfmd_get_contact_area(s, &final_area);
+    const double target = isnan(area_conv) ? final_area : area_conv;
+    out.steps_acc = fabs(final_area - target) <= 1e-3 * target ? probe : -1;
+    for (int64_t j = probe - 1; j >= 0 && fabs(trace[j] - target) <= 1e-3 * target; --j) out.steps_acc = j + 1;
+    free(trace);
     restart_run(s, sigma0);
     int64_t more = 0;
     const double t0 = now();
     if (out.steps_acc > 0 && (st = gfmd_step(s, out.steps_acc)) != GFMD_OK) die(s, st, "step");
     out.seconds_acc = out.steps_acc >= 0 ? now() - t0 : -1.0;
-    if ((st = gfmd_relax(s, GFMD_DEFAULT_TOL, 10000000, &more)) != GFMD_OK) die(s, st, "relax");
+    const int64_t rest = probe - (out.steps_acc > 0 ? out.steps_acc : 0);
+    if (out.converged) {
+        if (rest > 0 && (st = gfmd_relax(s, tol, rest, &more)) != GFMD_OK) die(s, st, "relax");
+    } else if (rest > 0) {
+        if ((st = gfmd_step(s, rest)) != GFMD_OK) die(s, st, "step");
+        more = rest;
+    }
     out.seconds = now() - t0;
     out.steps = (out.steps_acc > 0 ? out.steps_acc : 0) + more;
     if (out.steps != probe) {
@@ -198,6 +215,10 @@ static gfmd_run timed_relax(gfmd_sim *s, int32_t solver, double sigma0, double a
         exit(1);
     }
     return out;
+}
+
+static gfmd_run timed_relax(gfmd_sim *s, int32_t solver, double sigma0, double area_conv) {
+    return timed_relax_to(s, solver, sigma0, area_conv, GFMD_DEFAULT_TOL, 10000000);
 }
 
 /* A body of the benchmark's problem on an n x n grid: half-space (W = 0) or a layer on a fluid
@@ -373,8 +394,9 @@ static int sweep_table(const double *sizes, int nsizes, const double *widths, in
  * 0.004), without and with adhesion (gamma0 = 5e-4, rho = a), before and after each lever the
  * library has: FIRE (before), mass-weighted FIRE, the multilevel start (--levels, 3 unless given;
  * the default solver on each grid), and the default solver (on thin sheets the preconditioned CG without
- * adhesion, the mass-weighted approach then FIRE, GFMD_SOLVER_MASS_FIRE, with).  Steps and seconds to the default tolerance, and (chunks of 5
- * steps) until A/A0 stays within 0.1 % of the run's final value; with --tol T every lever relaxes to
+ * adhesion, the mass-weighted approach then FIRE, GFMD_SOLVER_MASS_FIRE, with).  Steps and seconds to the default tolerance, and
+ * (counted to the step, as in the main table: timed_relax_to) until A/A0 stays within 0.1 % of the
+ * run's final value (the multilevel start: not counted, "-"); with --tol T every lever relaxes to
  * T instead and A/A0 is printed to 8 digits.  Mass-weighted FIRE is not run
  * with adhesion beyond 20 000 steps. */
 static int first_load_table(const double *sizes, int nsizes, const double *widths, int nwidths, int threads,
@@ -399,46 +421,32 @@ static int first_load_table(const double *sizes, int nsizes, const double *width
                     if (st == GFMD_OK) st = gfmd_reset(s);
                     if (st == GFMD_OK) st = gfmd_set_pressure(s, load);
                     if (st != GFMD_OK) die(s, st, "first-load body");
-                    double area = 0.0, residual = 1.0, t_acc = -1.0;
+                    double area = 0.0, t = 0.0, t_acc = -1.0;
                     int64_t steps = 0, steps_acc = -1;
-                    const double t0 = now();
+                    int converged = 1;
                     int32_t active = -1;
-                    gfmd_get_solver(s, &active);
                     if (lever == 2) {
                         int64_t coarse = 0;
+                        gfmd_get_solver(s, &active);
+                        const double t0 = now();
                         st = gfmd_relax_multilevel(s, tol, 10000000, levels, &steps, &coarse);
+                        t = now() - t0;
                         if (st != GFMD_OK) die(s, st, "relax_multilevel");
                         steps += coarse; /* coarse steps are cheaper, counted all the same */
-                        gfmd_get_contact_area(s, &area);
                     } else {
-                        /* A/A0 every 5 steps; "to 0.1 %" is the last time it entered the final band */
-                        int64_t k = 0, cap = 1 << 14;
-                        double *trace = malloc(sizeof(double) * 2 * (size_t)cap);
+                        /* "to 0.1 %": from the step after which A/A0 stays within 0.1 % of the run's last value */
                         const int64_t limit = (adh && lever == 1) ? 20000 : 4000000;
-                        while (residual > tol && steps < limit) {
-                            if ((st = gfmd_step(s, 5)) != GFMD_OK) die(s, st, "step");
-                            steps += 5;
-                            if (k == cap) trace = realloc(trace, sizeof(double) * 2 * (size_t)(cap *= 2));
-                            gfmd_get_contact_area(s, &trace[2 * k]);
-                            trace[2 * k + 1] = now() - t0;
-                            ++k;
-                            gfmd_get_residual(s, &residual);
-                        }
-                        if (k == 0) gfmd_get_contact_area(s, &area); /* converged from the start */
-                        else area = trace[2 * (k - 1)];
-                        for (int64_t j = k - 1; j >= 0 && fabs(trace[2 * j] - area) <= 1e-3 * area; --j) {
-                            steps_acc = 5 * (j + 1);
-                            t_acc = trace[2 * j + 1];
-                        }
-                        free(trace);
+                        const gfmd_run g = timed_relax_to(s, solver, load, NAN, tol, limit);
+                        steps = g.steps, steps_acc = g.steps_acc, t = g.seconds, t_acc = g.seconds_acc;
+                        active = g.active, converged = g.converged;
                     }
-                    const double t = now() - t0;
+                    gfmd_get_contact_area(s, &area);
                     char acc_steps[32] = "-", acc_s[32] = "-", total[32];
                     if (steps_acc >= 0) {
                         snprintf(acc_steps, sizeof acc_steps, "%lld", (long long)steps_acc);
                         snprintf(acc_s, sizeof acc_s, "%.2f", t_acc);
                     }
-                    if (residual > tol && lever != 2) snprintf(total, sizeof total, ">%lld", (long long)steps);
+                    if (!converged) snprintf(total, sizeof total, ">%lld", (long long)steps);
                     else snprintf(total, sizeof total, "%lld", (long long)steps);
                     char what[32];
                     if (lever == 2) snprintf(what, sizeof what, "ml%d+%s", levels, solver_name(active));
