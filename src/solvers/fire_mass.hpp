@@ -3,6 +3,8 @@
 #ifndef GFMD_SRC_SOLVERS_FIRE_MASS_HPP
 #define GFMD_SRC_SOLVERS_FIRE_MASS_HPP
 
+#include <array>
+
 #include "fire_control.hpp"
 #include "solver.hpp"
 
@@ -16,24 +18,30 @@ public:
     void restart(const Dynamics &) override {
         control_.restart(kFireDtStart);  // a fraction of its own time step, mass_dt_
         bucket_ = -1;
+        lambda_.fill(0.0);
     }
     void advance(StepContext &c) override;
     std::unique_ptr<Solver> clone() const override { return std::make_unique<FireMass>(*this); }
-    // The floor is a function of the configuration (its contact count), not state: recomputed.
-    std::vector<double> state() const override { return control_.state(); }
-    void set_state(const std::vector<double> &s) override {
-        control_.set_state(s);
-        bucket_ = -1;
-    }
+    // FIRE's control, then the highest frequency^2 found for each contact-count bucket since the
+    // last restart (0: none yet).  The floor is a function of the configuration (its contact
+    // count): recomputed.  A state of FIRE's control alone (3 numbers, checkpoints of version
+    // 0.1.0 before the estimate) leaves the estimates to be made again.
+    std::vector<double> state() const override;
+    void set_state(const std::vector<double> &s) override;
+    // contact counts below 2^48 (a grid of 2^48 points needs petabytes); within the checkpoint
+    // format's 64 numbers of solver state also after GFMD_SOLVER_MASS_FIRE's 4 of its own
+    static constexpr std::size_t kBuckets = 48;
 
 private:
     void update_mass_floor(const StepContext &c);
+    double masked_lambda(StepContext &c);
     FireControl control_;
     ByteBuffer held_;  // 1 where the wall holds the body (scratch of one step)
     // Masses m(q) = max(k(q), floor_), chosen for the contact-count bucket bucket_
     // (floor(log2(contacts)), -1 = not chosen yet); the time step they allow.
-    double floor_ = 0.0, mass_dt_ = 0.0;
+    double floor_ = 0.0, mass_dt_ = 0.0, inv_m_ = 0.0;
     int bucket_ = -1;
+    std::array<double, kBuckets> lambda_{};  // per bucket: lambda_max of P M^-1 P K P (0: not yet)
 };
 
 }  // namespace gfmd

@@ -1,5 +1,7 @@
 #include "mass_fire.hpp"
 
+#include <algorithm>
+
 #include "../error.hpp"
 
 namespace gfmd {
@@ -13,8 +15,10 @@ std::vector<double> MassThenFire::state() const {
 }
 
 void MassThenFire::set_state(const std::vector<double> &s) {
-    const std::size_t nm = mass_.state().size(), nf = fire_.state().size();
-    if (s.size() != 1 + nm + nf || !valid_count(s[0]) || s[0] > static_cast<double>(kApproachSteps))
+    // the mass-weighted part with or without its frequency estimates (FireMass::set_state)
+    const std::size_t nf = fire_.state().size(), nm = s.size() - std::min(s.size(), 1 + nf);
+    const std::size_t nc = FireControl().state().size();
+    if ((nm != nc && nm != nc + FireMass::kBuckets) || !valid_count(s[0]) || s[0] > static_cast<double>(kApproachSteps))
         fail(GFMD_ERR_FORMAT, "invalid state of mass-weighted FIRE then FIRE");
     // FIRE's state is checked on a copy first (cheap; a copy of mass_ would copy its grid-sized
     // mask), so that a refused state leaves the solver as it was
