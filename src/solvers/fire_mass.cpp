@@ -22,7 +22,7 @@ constexpr int kLambdaIterations = 10;
 
 FireMass::FireMass(const FireMass &o)
     : Solver(o), control_(o.control_), held_(o.held_.size()), floor_(o.floor_), mass_dt_(o.mass_dt_),
-      inv_m_(o.inv_m_), bucket_(o.bucket_), lambda_(o.lambda_) {}
+      inv_m_(o.inv_m_), bucket_(o.bucket_), estimate_(o.estimate_), lambda_(o.lambda_) {}
 
 std::vector<double> FireMass::state() const {
     std::vector<double> s = control_.state();
@@ -168,6 +168,7 @@ void FireMass::advance(StepContext &c) {
     // force field, which is then evaluated again (same z: the same bits) -- an FFT pair per bucket
     // instead of 16 bytes per point.
     double &lambda = lambda_[std::min(static_cast<std::size_t>(bucket_), kBuckets - 1)];
+    if (lambda == 0.0 && !estimate_) lambda = 1.0;
     if (lambda == 0.0) {
         lambda = std::max(1.0, masked_lambda(c));
         (void)evaluate_forces(grid, c.params, c.body, c.fields);

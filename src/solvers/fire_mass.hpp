@@ -12,8 +12,10 @@ namespace gfmd {
 
 class FireMass final : public Solver {
 public:
-    // One byte per point: the mask of the points the wall holds.
-    explicit FireMass(const FftGrid &grid) : held_(static_cast<std::size_t>(grid.local_points())) {}
+    // One byte per point: the mask of the points the wall holds.  estimate = false: the step of the
+    // unmasked modes (lambda_max = 1), as GFMD_SOLVER_MASS_FIRE's approach takes it (mass_fire.hpp).
+    explicit FireMass(const FftGrid &grid, bool estimate = true)
+        : held_(static_cast<std::size_t>(grid.local_points())), estimate_(estimate) {}
     FireMass(const FireMass &o);
     void restart(const Dynamics &) override {
         control_.restart(kFireDtStart);  // a fraction of its own time step, mass_dt_
@@ -41,6 +43,7 @@ private:
     // (floor(log2(contacts)), -1 = not chosen yet); the time step they allow.
     double floor_ = 0.0, mass_dt_ = 0.0, inv_m_ = 0.0;
     int bucket_ = -1;
+    bool estimate_ = true;
     std::array<double, kBuckets> lambda_{};  // per bucket: lambda_max of P M^-1 P K P (0: not yet)
 };
 

@@ -177,9 +177,12 @@ static void mass_weighted_thin_sheet_steps(void **state) {
     }
 }
 
-/* GFMD_SOLVER_MASS_FIRE is exactly what a caller gets by hand: 100 steps of mass-weighted FIRE,
- * then FIRE from there (gfmd_set_solver restarts FIRE, the velocities carry over) -- the same bits
- * and steps; and a relax in chunks of 7 steps (which cross the switch) follows one call. */
+/* GFMD_SOLVER_MASS_FIRE: at most 100 steps of mass weighting (at the step of the unmasked modes,
+ * kApproachEstimates), then FIRE from there.  It switches (more than 100 steps), a relax in chunks
+ * of 7 steps (which cross the switch) follows one call bit for bit, and it reaches FIRE's answer
+ * from the same start (both to 1e-8: the contact sets within two points of 4096 and the gap to
+ * 1e-5, as in solvers_agree; with adhesion the same contact area to 1e-3, the sheet at this low
+ * load being sticky). */
 static void approach_then_fire(void **state) {
     (void)state;
     const double adhesion[2] = {0.0, 1e-3};
@@ -190,30 +193,36 @@ static void approach_then_fire(void **state) {
             TS_OK(s[k], gfmd_generate_selfaffine(s[k], 0.8, 16.0, 4.0, 1.0, 99, GFMD_DIST_UNIFORM));
             TS_OK(s[k], gfmd_set_green(s[k], GFMD_GREEN_LAYER_FLUID, 1.0));
             if (adhesion[a] > 0.0) TS_OK(s[k], gfmd_set_adhesion(s[k], adhesion[a], 0.5));
-            TS_OK(s[k], gfmd_set_solver(s[k], k == 1 ? GFMD_SOLVER_FIRE_MASS : GFMD_SOLVER_MASS_FIRE));
+            TS_OK(s[k], gfmd_set_solver(s[k], k == 1 ? GFMD_SOLVER_FIRE : GFMD_SOLVER_MASS_FIRE));
             TS_OK(s[k], gfmd_set_pressure(s[k], 3e-4));
         }
         int64_t n0 = 0, n1 = 0, n2 = 0, k = 0;
         TS_OK(s[0], gfmd_relax(s[0], 1e-8, 500000, &n0));
-        TS_OK(s[1], gfmd_step(s[1], 100));
-        TS_OK(s[1], gfmd_set_solver(s[1], GFMD_SOLVER_FIRE));
         TS_OK(s[1], gfmd_relax(s[1], 1e-8, 500000, &n1));
         int32_t st;
         while ((st = gfmd_relax(s[2], 1e-8, 7, &k)) == GFMD_ERR_NOT_CONVERGED) n2 += k;
         TS_OK(s[2], st);
         n2 += k;
-        print_message("approach then FIRE, gamma0 %g: %lld steps; by hand 100 + %lld; in chunks %lld\n", adhesion[a],
+        print_message("approach then FIRE, gamma0 %g: %lld steps; FIRE %lld; in chunks %lld\n", adhesion[a],
                       (long long)n0, (long long)n1, (long long)n2);
         assert_true(n0 > 100); /* the switch happened */
-        assert_int_equal(n0, 100 + n1);
         assert_int_equal(n0, n2);
-        double *z[3];
+        double *z[3], area[2], gap[2];
         for (int j = 0; j < 3; ++j) {
             z[j] = ts_alloc(64 * 64);
             TS_OK(s[j], gfmd_get_surface(s[j], z[j]));
         }
-        assert_memory_equal(z[0], z[1], sizeof(double) * 64 * 64);
+        for (int j = 0; j < 2; ++j) {
+            TS_OK(s[j], gfmd_get_contact_area(s[j], &area[j]));
+            TS_OK(s[j], gfmd_get_mean_gap(s[j], &gap[j]));
+        }
         assert_memory_equal(z[0], z[2], sizeof(double) * 64 * 64);
+        if (adhesion[a] > 0.0) {
+            assert_true(ts_rel(area[0], area[1]) < 1e-3);
+        } else {
+            assert_true(fabs(area[0] - area[1]) <= 2.0 / 4096.0);
+            assert_true(ts_rel(gap[0], gap[1]) < 1e-5);
+        }
         for (int j = 0; j < 3; ++j) {
             free(z[j]);
             gfmd_sim_destroy(&s[j]);
