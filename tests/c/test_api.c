@@ -266,18 +266,24 @@ static void automatic_choice(void **state) {
     assert_int_equal(chosen(512, GFMD_GREEN_LAYER_BONDED, 64.0, 0.05, 0.0, 0), GFMD_SOLVER_CG);
     assert_int_equal(chosen(512, GFMD_GREEN_LAYER_BONDED, 128.0, 0.05, 0.0, 0), GFMD_SOLVER_FIRE);
     assert_int_equal(chosen(256, GFMD_GREEN_HALFSPACE, 0.0, 0.05, 0.0, 0), GFMD_SOLVER_FIRE);
-    /* a thin sheet on a fluid foundation (w = 1, n = 128: f(q_min w) = 5e4) without adhesion: the
-     * preconditioned CG at every load; with adhesion at a low load (Persson's A/A0 < 0.1) the
-     * mass-weighted approach then FIRE, FIRE above */
+    /* a thin sheet on a fluid foundation (w = 1, n = 128: f(q_min w) = 5e4, q_max w = 4.4) without
+     * adhesion: the preconditioned CG at every load; with adhesion at the lowest loads (Persson's
+     * A/A0 < 0.02: sigma0 = 0.001 gives 0.010) mass-weighted FIRE, at a low load (A/A0 < 0.1:
+     * sigma0 = 0.004 gives 0.040) the mass-weighted approach then FIRE, FIRE above */
     double area = 0.0;
     assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.05, 0.0, 0), GFMD_SOLVER_CG);
     assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.002, 0.0, 0), GFMD_SOLVER_CG);
-    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.002, 1e-3, 0), GFMD_SOLVER_MASS_FIRE);
+    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.001, 1e-3, 0), GFMD_SOLVER_FIRE_MASS);
+    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.004, 1e-3, 0), GFMD_SOLVER_MASS_FIRE);
     assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.05, 1e-3, 0), GFMD_SOLVER_FIRE);
     /* the loads on both sides of Persson's A/A0 = 0.1, adhesive (CG out of the way) */
     gfmd_sim *p = ts_create(128, 128, 128.0, 128.0);
     TS_OK(p, gfmd_generate_selfaffine(p, 0.8, 16.0, 4.0, 1.0, 1, GFMD_DIST_UNIFORM));
     TS_OK(p, gfmd_set_green(p, GFMD_GREEN_LAYER_FLUID, 1.0));
+    TS_OK(p, gfmd_persson_contact_area(p, 0.001, &area));
+    assert_true(area < 0.02);
+    TS_OK(p, gfmd_persson_contact_area(p, 0.004, &area));
+    assert_true(area > 0.02 && area < 0.1);
     TS_OK(p, gfmd_persson_contact_area(p, 0.008, &area));
     assert_true(area < 0.1);
     TS_OK(p, gfmd_persson_contact_area(p, 0.012, &area));
@@ -286,8 +292,10 @@ static void automatic_choice(void **state) {
     assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.008, 1e-3, 0), GFMD_SOLVER_MASS_FIRE);
     assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.012, 1e-3, 0), GFMD_SOLVER_FIRE);
     /* the approach's softness threshold f(q_min w) >= 2e4 at 256^2, adhesive: w = 2 (W = 0.5,
-     * f = 5.1e4) takes it, w = 4 (W = 1, f = 6.4e3) and a thick layer w = 64 (f = 1.1) keep FIRE */
+     * f = 5.1e4; q_max w = 8.9, not thin: the approach also at the lowest loads) takes it, w = 4
+     * (W = 1, f = 6.4e3) and a thick layer w = 64 (f = 1.1) keep FIRE */
     assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 2.0, 0.002, 1e-3, 0), GFMD_SOLVER_MASS_FIRE);
+    assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 2.0, 0.0005, 1e-3, 0), GFMD_SOLVER_MASS_FIRE);
     assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 4.0, 0.002, 1e-3, 0), GFMD_SOLVER_FIRE);
     assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 64.0, 0.002, 1e-3, 0), GFMD_SOLVER_FIRE);
     /* without adhesion CG on every layer on a fluid foundation: a thick one (w = 64, f = 1.1) too */
