@@ -8,6 +8,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include <cmocka.h>
 
@@ -136,6 +137,10 @@ static void mass_weighted(void **state) {
  * as in solvers_agree). */
 static void mass_weighted_thin_sheet_steps(void **state) {
     (void)state;
+    /* about 15 000 FIRE steps at 128^2 for the comparison: a minute under valgrind, whose memory
+     * checks of mass weighting the other tests here give (mass_weighted, solvers_agree) */
+    const char *preload = getenv("LD_PRELOAD");
+    if (preload != NULL && strstr(preload, "vgpreload") != NULL) skip();
     const double adhesion[2] = {0.0, 5e-4};
     const int64_t bound[2] = {1250, 2500};
     for (int a = 0; a < 2; ++a) {
