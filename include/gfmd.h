@@ -421,6 +421,18 @@ GFMD_API int32_t gfmd_persson_variance(const gfmd_sim *s, double *variance);
 GFMD_API int32_t gfmd_persson_contact_area(const gfmd_sim *s, double sigma0, double *rel_area);
 
 /**
+ * The inverse of gfmd_persson_contact_area(): the external pressure at which Persson's relative
+ * contact area is @p rel_area, sigma0 = sqrt(2 V) x with erf(x) = rel_area (x by bisection to
+ * the last bit: erf for rel_area <= 1/2, erfc(x) = 1 - rel_area above, so that areas near 1 keep
+ * their digits).  A load sweep at chosen Persson areas (as the study's) takes its loads from here.
+ * Does not change the handle; each call transforms the substrate once, as gfmd_persson_variance().
+ * @param rel_area finite, in [0, 1) (0 gives 0).
+ * @return GFMD_ERR_INVALID_ARG for rel_area outside [0, 1) or not finite, GFMD_ERR_STATE for a
+ *         flat substrate (V = 0: full contact under any positive load) with rel_area > 0.
+ */
+GFMD_API int32_t gfmd_persson_load(const gfmd_sim *s, double rel_area, double *sigma0);
+
+/**
  * Linear least squares: the x (n values) minimizing ||A x - b||_2 for an m x n matrix A of full
  * column rank, m >= n >= 1, solved by QR (LAPACKE_dgels).  @p a is column major (element (i, j) at
  * a[i + j*m]) and, like @p b, is not modified.  Fits of a line or a power law are one column of

@@ -375,6 +375,13 @@ int32_t gfmd_persson_contact_area(const gfmd_sim *s, double sigma0, double *rel_
     });
 }
 
+int32_t gfmd_persson_load(const gfmd_sim *s, double rel_area, double *sigma0) {
+    return guarded(s, args(rel_area, sigma0), [&](const gfmd::Simulation &m) {
+        need(sigma0, "sigma0");
+        *sigma0 = m.persson_load(rel_area);
+    });
+}
+
 int32_t gfmd_least_squares(int64_t m, int64_t n, const double *a, const double *b, double *x, double *rss) {
     if (a == nullptr || b == nullptr || x == nullptr) return GFMD_ERR_NULL;
     return status_of([&] {

@@ -64,4 +64,23 @@ double persson_contact_area(double variance, double sigma0) {
     return (sigma0 > 0.0) ? 1.0 : 0.0;  // flat substrate: full contact under any load
 }
 
+double persson_load(double variance, double area) {
+    // erf(10) is 1 to double precision and 1 - area >= 2^-53, so x < 10 (erfc(6) = 2e-17 already).
+    // Below 1/2 the test is erf(x) < area; above, the same test as erfc(x) > 1 - area (exact by
+    // Sterbenz there), which keeps the digits erf loses near 1.
+    const bool upper = area > 0.5;
+    const double rest = 1.0 - area;
+    double lo = 0.0, hi = 10.0;
+    for (;;) {
+        const double mid = 0.5 * (lo + hi);
+        if (!(mid > lo && mid < hi)) break;  // the bracket is two neighbouring doubles
+        if (upper ? std::erfc(mid) > rest : std::erf(mid) < area)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    const double scale = std::isfinite(2.0 * variance) ? std::sqrt(2.0 * variance) : std::sqrt(2.0) * std::sqrt(variance);
+    return 0.5 * (lo + hi) * scale;
+}
+
 }  // namespace gfmd

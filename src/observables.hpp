@@ -23,6 +23,9 @@ double persson_variance(const FftGrid &grid, const Body &body, const Fields &fie
 // A/A0 = erf(sigma0 / sqrt(2 variance)) (Persson, J. Chem. Phys. 115, 3840 (2001)); full contact
 // under any load on a flat substrate.  sigma0 finite and >= 0.
 double persson_contact_area(double variance, double sigma0);
+// The load at which persson_contact_area(variance, sigma0) = area, for variance > 0 and area in
+// [0, 1): bisection on erf (erfc above area 1/2) until the bracket cannot shrink.
+double persson_load(double variance, double area);
 
 }  // namespace gfmd
 

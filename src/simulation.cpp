@@ -589,5 +589,15 @@ double Simulation::persson_contact_area(double sigma0) const {
     if (sigma0 < 0.0) fail(GFMD_ERR_INVALID_ARG, "sigma0 must be >= 0, got " + num(sigma0));
     return gfmd::persson_contact_area(persson_variance(), sigma0);
 }
+double Simulation::persson_load(double rel_area) const {
+    require_finite(rel_area, "rel_area");
+    if (!(rel_area >= 0.0 && rel_area < 1.0))
+        fail(GFMD_ERR_INVALID_ARG, "rel_area must be in [0, 1), got " + num(rel_area));
+    if (rel_area == 0.0) return 0.0;
+    const double variance = persson_variance();
+    if (!(variance > 0.0))
+        fail(GFMD_ERR_STATE, "the substrate is flat: Persson's A/A0 is 1 under any positive load, never " + num(rel_area));
+    return gfmd::persson_load(variance, rel_area);
+}
 
 }  // namespace gfmd

@@ -86,6 +86,7 @@ public:
     void pressure(double *out) const;
     double persson_variance() const;
     double persson_contact_area(double sigma0) const;
+    double persson_load(double rel_area) const;
     double mean_displacement() const;  // mean(z)
     double mean_pressure() const { return forces_.mean_pressure; }
 

@@ -70,6 +70,7 @@ module gfmd
     procedure :: get_pressure => sim_get_pressure
     procedure :: persson_variance => sim_persson_variance
     procedure :: persson_contact_area => sim_persson_contact_area
+    procedure :: persson_load => sim_persson_load
     procedure :: last_error => sim_last_error
     procedure, private :: sim_assign
     generic :: assignment(=) => sim_assign
@@ -623,6 +624,16 @@ contains
     call finish(self%ptr, c_gfmd_persson_contact_area(self%ptr, sigma0, rel_area), 'persson_contact_area', &
                 stat, errmsg)
   end subroutine sim_persson_contact_area
+
+  !> The load sigma0 at which Persson's A/A0 is rel_area (the inverse of persson_contact_area).
+  subroutine sim_persson_load(self, rel_area, sigma0, stat, errmsg)
+    class(gfmd_sim_t), intent(in) :: self
+    real(dp), intent(in) :: rel_area
+    real(dp), intent(out) :: sigma0
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    call finish(self%ptr, c_gfmd_persson_load(self%ptr, rel_area, sigma0), 'persson_load', stat, errmsg)
+  end subroutine sim_persson_load
 
   subroutine sim_get_mean_gap(self, mean_gap, stat, errmsg)
     class(gfmd_sim_t), intent(in) :: self

@@ -17,7 +17,7 @@ module gfmd_c_api
   public :: c_gfmd_sim_save, c_gfmd_sim_load, c_gfmd_set_threads, c_gfmd_get_threads, &
     c_gfmd_get_solver
   public :: c_gfmd_set_fft_planner, c_gfmd_import_wisdom, c_gfmd_export_wisdom
-  public :: c_gfmd_persson_variance, c_gfmd_persson_contact_area, c_gfmd_least_squares
+  public :: c_gfmd_persson_variance, c_gfmd_persson_contact_area, c_gfmd_persson_load, c_gfmd_least_squares
 
   interface
     ! const char *gfmd_version(void);
@@ -411,6 +411,15 @@ module gfmd_c_api
       type(c_ptr), value :: s
       real(c_double), value :: sigma0
       real(c_double), intent(out) :: rel_area
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_persson_load(const gfmd_sim *s, double rel_area, double *sigma0);
+    function c_gfmd_persson_load(s, rel_area, sigma0) bind(C, name="gfmd_persson_load") result(r)
+      import :: c_ptr, c_int32_t, c_double
+      type(c_ptr), value :: s
+      real(c_double), value :: rel_area
+      real(c_double), intent(out) :: sigma0
       integer(c_int32_t) :: r
     end function
 

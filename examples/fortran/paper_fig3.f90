@@ -12,7 +12,7 @@ program paper_fig3
   real(dp), parameter :: area_grid(10) = [0.004_dp, 0.008_dp, 0.016_dp, 0.03_dp, 0.05_dp, 0.08_dp, &
                                           0.12_dp, 0.18_dp, 0.27_dp, 0.4_dp]
   real(dp), allocatable :: widths(:), h(:, :), a(:, :), b(:)
-  real(dp) :: bandwidth, l, u_max, sigma0, area, persson, gap, u_el, kappa(1), variance
+  real(dp) :: bandwidth, l, u_max, sigma0, area, persson, gap, u_el, kappa(1)
   type(gfmd_sim_t) :: surface, sim
   integer :: n, nw, i, k, u, m, nargs
   integer :: steps
@@ -61,11 +61,10 @@ program paper_fig3
   do i = 1, nw
     sim = surface                                 ! deep copy: same substrate, planned once more
     if (widths(i) > 0.0_dp) call sim%set_green(GFMD_GREEN_LAYER_FLUID, widths(i) * lambda_s)
-    call sim%persson_variance(variance)
     write (*, '(/,a,g0)') 'W = w/lambda_s = ', widths(i)
     write (*, '(a12,2a10,a12,a8)') 'sigma0/E*g', 'A/A0', 'Persson', 'U_el', 'steps'
     do k = 1, size(area_grid)
-      sigma0 = persson_load(area_grid(k), variance)
+      call sim%persson_load(area_grid(k), sigma0)     ! the load at which Persson's A/A0 is the target
       call sim%set_pressure(sigma0)
       call sim%relax(0.0_dp, 2000000, steps)
       call sim%get_contact_area(area)
@@ -90,24 +89,6 @@ program paper_fig3
   write (*, '(a)') 'wrote ' // trim(out)
 
 contains
-
-  ! The load at which Persson's erf(sigma0/sqrt(2 V)) reaches a target area (bisection).
-  real(dp) function persson_load(target, v) result(s)
-    real(dp), intent(in) :: target, v
-    real(dp) :: lo, hi, mid
-    integer :: it
-    lo = 0.0_dp
-    hi = 10.0_dp
-    do it = 1, 200
-      mid = 0.5_dp * (lo + hi)
-      if (erf(mid) < target) then
-        lo = mid
-      else
-        hi = mid
-      end if
-    end do
-    s = 0.5_dp * (lo + hi) * sqrt(2.0_dp * v)
-  end function persson_load
 
   function body_name(w) result(name)
     real(dp), intent(in) :: w

@@ -437,3 +437,9 @@ class Simulation:
         a = ctypes.c_double()
         self._call("gfmd_persson_contact_area", float(sigma0), ctypes.byref(a))
         return a.value
+
+    def persson_load(self, rel_area):
+        """The load at which Persson's A/A0 is rel_area (the inverse of persson_contact_area)."""
+        s = ctypes.c_double()
+        self._call("gfmd_persson_load", float(rel_area), ctypes.byref(s))
+        return s.value

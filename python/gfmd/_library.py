@@ -95,6 +95,7 @@ _PROTOTYPES = {
     "gfmd_get_pressure": (_sim, c_double_p),
     "gfmd_persson_variance": (_sim, c_double_p),
     "gfmd_persson_contact_area": (_sim, _dbl, c_double_p),
+    "gfmd_persson_load": (_sim, _dbl, c_double_p),
     "gfmd_least_squares": (_i64, _i64, c_double_p, c_double_p, c_double_p, c_double_p),
     "gfmd_version": (),
     "gfmd_status_string": (_i32,),

@@ -167,6 +167,10 @@ def test_theory_and_fits():
         s.generate_selfaffine(0.8, 32.0, 4.0, 1.0, 2)
         v = s.persson_variance()
         assert s.persson_contact_area(0.05) == pytest.approx(math.erf(0.05 / math.sqrt(2 * v)), rel=1e-14)
+        # the inverse: to the last bit of the bisection's x (the load's own rounding, 1e-15)
+        assert s.persson_load(s.persson_contact_area(0.05)) == pytest.approx(0.05, rel=1e-13)
+        with pytest.raises(gfmd.Error, match="rel_area"):
+            s.persson_load(1.0)
 
 
 def test_constants_are_the_tables():

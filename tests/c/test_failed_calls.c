@@ -145,6 +145,15 @@ static int32_t persson_negative(gfmd_sim *s) {
     return gfmd_persson_contact_area(s, -1.0, &a);
 }
 static int32_t persson_null(gfmd_sim *s) { return gfmd_persson_contact_area(s, 0.1, NULL); }
+static int32_t persson_load_full(gfmd_sim *s) {
+    double load = 0.0;
+    return gfmd_persson_load(s, 1.0, &load);
+}
+static int32_t persson_load_nan(gfmd_sim *s) {
+    double load = 0.0;
+    return gfmd_persson_load(s, NAN, &load);
+}
+static int32_t persson_load_null(gfmd_sim *s) { return gfmd_persson_load(s, 0.1, NULL); }
 static int32_t save_nowhere(gfmd_sim *s) { return gfmd_sim_save(s, "no/such/dir/x.gfmd"); }
 static int32_t clone_null(gfmd_sim *s) { return gfmd_sim_clone(s, NULL); }
 
@@ -206,6 +215,9 @@ static const failing CALLS[] = {
     {"multilevel relax coarser than 8 points a side (32 x 24 / 8)", GFMD_ERR_INVALID_ARG, multilevel_too_deep},
     {"Persson at sigma0 < 0", GFMD_ERR_INVALID_ARG, persson_negative},
     {"Persson into NULL", GFMD_ERR_NULL, persson_null},
+    {"Persson load for full contact", GFMD_ERR_INVALID_ARG, persson_load_full},
+    {"Persson load for a NaN area", GFMD_ERR_INVALID_ARG, persson_load_nan},
+    {"Persson load into NULL", GFMD_ERR_NULL, persson_load_null},
     {"save into a missing folder", GFMD_ERR_IO, save_nowhere},
     {"clone into NULL", GFMD_ERR_NULL, clone_null},
 };

@@ -1,4 +1,5 @@
-/* Persson's theory (gfmd_persson_variance, gfmd_persson_contact_area) against closed forms, and
+/* Persson's theory (gfmd_persson_variance, gfmd_persson_contact_area, gfmd_persson_load) against
+ * closed forms, and
  * the least-squares fit (gfmd_least_squares) against fits with known answers. */
 #include <math.h>
 #include <setjmp.h>
@@ -42,6 +43,44 @@ static void halfspace_variance_is_gradient(void **state) {
     assert_true(ts_rel(area, erf(0.4 / sqrt(2.0 * expect))) < 1e-12);
     TS_OK(s, gfmd_persson_contact_area(s, 0.0, &area));
     assert_true(area == 0.0);
+    gfmd_sim_destroy(&s);
+}
+
+/* The load for a Persson area: on the half-space V = (E* g/2)^2, so the load for A/A0 = 1/2 is
+ * sqrt(2 V) erfinv(1/2), erfinv(1/2) = 0.476936276204469873381418353643 (tabulated; 1e-12 for V's
+ * own rounding, above).  Everywhere else the inverse is checked against erf and erfc themselves
+ * with the library's V: near 1 the relative error of 1 - A/A0 is about 2 x^2 (x ~ 5) times the
+ * rounding of the load, < 1e-13, where erf alone would keep only 1 - A/A0's absolute 1e-16. */
+static void persson_load_inverts_area(void **state) {
+    (void)state;
+    gfmd_sim *s = ts_create(96, 64, 96.0, 64.0);
+    TS_OK(s, gfmd_generate_selfaffine(s, 0.8, 32.0, 4.0, 0.7, 5, GFMD_DIST_UNIFORM));
+    TS_OK(s, gfmd_set_modulus(s, 2.5));
+    double load = NAN;
+    TS_OK(s, gfmd_persson_load(s, 0.5, &load));
+    assert_true(ts_rel(load, 2.5 * 0.7 / 2.0 * sqrt(2.0) * 0.476936276204469873381418353643) < 1e-12);
+    TS_OK(s, gfmd_persson_load(s, 0.0, &load));
+    assert_true(load == 0.0);
+    const double areas[] = {1e-300, 1e-12, 0.004, 0.3, 0.5, 0.5000000000000001, 0.7, 0.999, 1.0 - 1e-12, 0.9999999999999999};
+    const int32_t kinds[] = {GFMD_GREEN_HALFSPACE, GFMD_GREEN_LAYER_FLUID};
+    for (int k = 0; k < 2; ++k) {
+        if (kinds[k] != GFMD_GREEN_HALFSPACE) TS_OK(s, gfmd_set_green(s, kinds[k], 0.3));
+        const double v = variance(s);
+        double prev = 0.0;
+        for (size_t i = 0; i < sizeof areas / sizeof areas[0]; ++i) {
+            TS_OK(s, gfmd_persson_load(s, areas[i], &load));
+            assert_true(load > prev); /* increasing with the area */
+            prev = load;
+            const double x = load / sqrt(2.0 * v);
+            if (areas[i] <= 0.5)
+                assert_true(ts_rel(erf(x), areas[i]) < 1e-13);
+            else
+                assert_true(ts_rel(erfc(x), 1.0 - areas[i]) < 1e-13);
+            double back = NAN;
+            TS_OK(s, gfmd_persson_contact_area(s, load, &back));
+            assert_true(fabs(back - areas[i]) <= 1e-13 * areas[i]);
+        }
+    }
     gfmd_sim_destroy(&s);
 }
 
@@ -115,6 +154,23 @@ static void persson_bad_input(void **state) {
     assert_true(v == 0.0);
     TS_OK(s, gfmd_persson_contact_area(s, 1e-9, &a));
     assert_true(a == 1.0);
+    /* the inverse: no positive load gives a flat substrate less than full contact */
+    a = 7.0;
+    assert_int_equal(gfmd_persson_load(s, 0.5, &a), GFMD_ERR_STATE);
+    assert_int_equal(gfmd_last_error(s, msg, sizeof msg), GFMD_OK);
+    assert_non_null(strstr(msg, "flat"));
+    TS_OK(s, gfmd_persson_load(s, 0.0, &a));
+    assert_true(a == 0.0);
+    a = 7.0;
+    assert_int_equal(gfmd_persson_load(NULL, 0.1, &a), GFMD_ERR_NULL);
+    assert_int_equal(gfmd_persson_load(s, 0.1, NULL), GFMD_ERR_NULL);
+    const double bad[] = {-1e-300, 1.0, 2.0, NAN, INFINITY, -INFINITY};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+        assert_int_equal(gfmd_persson_load(s, bad[i], &a), GFMD_ERR_INVALID_ARG);
+        assert_int_equal(gfmd_last_error(s, msg, sizeof msg), GFMD_OK);
+        assert_non_null(strstr(msg, "rel_area"));
+    }
+    assert_true(a == 7.0);
     gfmd_sim_destroy(&s);
 }
 
@@ -185,6 +241,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(halfspace_variance_is_gradient), cmocka_unit_test(sinusoid_layer_variance),
         cmocka_unit_test(persson_thin_plate_scaling),     cmocka_unit_test(persson_bad_input),
+        cmocka_unit_test(persson_load_inverts_area),
         cmocka_unit_test(least_squares_known),
         cmocka_unit_test(least_squares_bad_input),
     };

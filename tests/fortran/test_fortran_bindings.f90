@@ -333,6 +333,11 @@ contains
     call check(abs(area - erf(0.1_dp / sqrt(0.5_dp))) < 1e-14_dp, 'Persson area = erf(sigma0/sqrt(2V))')
     call sim%persson_contact_area(-1.0_dp, area, stat=st, errmsg=msg)
     call check(st == GFMD_ERR_INVALID_ARG .and. index(msg, 'sigma0') > 0, 'negative load refused with a message')
+    ! the inverse, to the rounding of the bisection (the last bit of x) and of V (1e-12 above)
+    call sim%persson_load(erf(0.1_dp / sqrt(0.5_dp)), x(1))
+    call check(abs(x(1) - 0.1_dp) < 1e-12_dp, 'Persson load inverts the area')
+    call sim%persson_load(1.0_dp, x(1), stat=st, errmsg=msg)
+    call check(st == GFMD_ERR_INVALID_ARG .and. index(msg, 'rel_area') > 0, 'full contact refused with a message')
     do i = 1, 5
       a(i, 1) = 1.0_dp
       a(i, 2) = real(i, dp)
