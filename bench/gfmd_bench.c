@@ -17,8 +17,9 @@
  *                                a thin sheet's first load from flat, with and without adhesion,
  *                                by the default solver, mass-weighted FIRE and the multilevel start
  *   gfmd_bench --sweep [--sizes 2048] [--widths 0.25,1,100] [--threads N]
+ *        [--adhesion] [--no-cg] [--verbose]
  *                                the study's continuing loads on each body by the approach then
- *                                FIRE and by CG, with the default's choice
+ *                                FIRE, mass-weighted FIRE, CG and the default (its choices printed)
  *   gfmd_bench --big [--sigma0 S] [--threads 2] [--sizes 4096]
  *                                one W = 1 layer from flat to the default tolerance at 4096^2
  *
@@ -313,40 +314,88 @@ static int multilevel_table(const double *sizes, int nsizes, const double *width
     return 0;
 }
 
-/* The load at which Persson's A/A0 = erf(sigma0/sqrt(2V)) equals `area` (the study's loads). */
+/* The load at which Persson's A/A0 equals `area` (the study's loads). */
 static double persson_load(gfmd_sim *s, double area) {
-    double v = 0.0, lo = 0.0, hi = 10.0;
-    int32_t st = gfmd_persson_variance(s, &v);
-    if (st != GFMD_OK) die(s, st, "persson variance");
-    for (int i = 0; i < 200; ++i) {
-        const double mid = 0.5 * (lo + hi);
-        if (erf(mid) < area) lo = mid; else hi = mid;
-    }
-    return 0.5 * (lo + hi) * sqrt(2.0 * v);
+    double load = 0.0;
+    int32_t st = gfmd_persson_load(s, area, &load);
+    if (st != GFMD_OK) die(s, st, "persson load");
+    return load;
 }
 
 /* --sweep: the study's load sweep on one body (gfmd_paper: Persson's A/A0 = 0.004 ... 0.4, each
  * load continuing from the last equilibrium), bench_body's substrate (at 2048^2 the one of
- * gfmd_paper --full: lambda_r = n a/8, seed 2016), without adhesion.  The first load is relaxed
- * once, untimed, by the default solver (from 3 coarser grids at >= 2048^2, flat below, as the study
- * does); from that equilibrium the nine continuing loads are relaxed twice, each time on a clone:
- * by the approach then FIRE (plain FIRE on the half-space) and by CG.  Prints their steps and
- * seconds, the default's choice for a continuing load, and A/A0 at the last load of each. */
-static int sweep_table(const double *sizes, int nsizes, const double *widths, int nwidths, int threads) {
-    static const double targets[10] = {0.004, 0.008, 0.016, 0.03, 0.05, 0.08, 0.12, 0.18, 0.27, 0.4};
+ * gfmd_paper --full: lambda_r = n a/8, seed 2016), with the study's adhesion if asked.  The first
+ * load is relaxed once, untimed, by the default solver (from 3 coarser grids at >= 2048^2, flat
+ * below, as the study does); from that equilibrium the nine continuing loads are relaxed by each
+ * solver on a clone: the approach then FIRE (plain FIRE on the half-space), mass-weighted FIRE
+ * throughout, CG (not with adhesion, nor with --no-cg), and the default, which chooses again at
+ * every load.  Prints their steps and seconds, the default's choices (one name per run of
+ * loads), A/A0 at the last load of each, and with --verbose each solver's steps and seconds per
+ * load. */
+enum { SWEEP_LOADS = 10, SWEEP_SOLVERS = 4 };
+
+typedef struct {
+    long long steps[SWEEP_LOADS], total;
+    double secs[SWEEP_LOADS], seconds, area;
+    int32_t choice[SWEEP_LOADS];
+} sweep_run;
+
+/* The nine continuing loads on a clone of s by `solver`, timed load by load. */
+static sweep_run sweep_continue(gfmd_sim *s, int32_t solver, const double *loads) {
+    sweep_run r = {{0}, 0, {0}, 0.0, 0.0, {0}};
+    gfmd_sim *c = NULL;
+    int32_t st = gfmd_sim_clone(s, &c);
+    if (st != GFMD_OK) die(s, st, "clone");
+    if ((st = gfmd_set_solver(c, solver)) != GFMD_OK) die(c, st, "solver");
+    for (int l = 1; l < SWEEP_LOADS; ++l) {
+        int64_t steps = 0;
+        if ((st = gfmd_set_pressure(c, loads[l])) != GFMD_OK) die(c, st, "pressure");
+        gfmd_get_solver(c, &r.choice[l]);
+        const double t0 = now();
+        if ((st = gfmd_relax(c, 0.0, 10000000, &steps)) != GFMD_OK) die(c, st, "relax");
+        r.secs[l] = now() - t0;
+        r.steps[l] = (long long)steps;
+        r.total += r.steps[l];
+        r.seconds += r.secs[l];
+    }
+    gfmd_get_contact_area(c, &r.area);
+    gfmd_sim_destroy(&c);
+    return r;
+}
+
+/* The default's choices over the continuing loads, e.g. "mass/m+FIRE" (one name per run). */
+static void sweep_choices(const sweep_run *r, char *out, size_t size) {
+    static const char *const shortnames[] = {"Verlet", "FIRE", "mass", "CG", "auto", "m+FIRE"};
+    out[0] = '\0';
+    for (int l = 1; l < SWEEP_LOADS; ++l) {
+        if (l > 1 && r->choice[l] == r->choice[l - 1]) continue;
+        const int32_t k = r->choice[l];
+        const char *name = k >= 0 && k < 6 ? shortnames[k] : "?";
+        const size_t used = strlen(out);
+        snprintf(out + used, size - used, "%s%s", l > 1 ? "/" : "", name);
+    }
+}
+
+static int sweep_table(const double *sizes, int nsizes, const double *widths, int nwidths, int threads, int adhesion,
+                       int cg, int verbose) {
+    static const double targets[SWEEP_LOADS] = {0.004, 0.008, 0.016, 0.03, 0.05, 0.08, 0.12, 0.18, 0.27, 0.4};
+    static const char *const heads[SWEEP_SOLVERS] = {"m+FIRE", "mass", "CG", "auto"};
     printf("gfmd %s: the study's continuing loads (Persson A/A0 = 0.008 ... 0.4 after the first load 0.004), "
            "layers on a fluid foundation (w = 4 W a), H = 0.8, lambda_s = 4a, lambda_r = n a/8, seed 2016, "
-           "%d thread(s), default tolerance\n", gfmd_version(), threads);
-    printf("%5s %7s %9s %9s | %7s %8s %8s | %7s %8s %8s | %7s\n", "n", "W", "f(qmin w)", "auto", "m+FIRE", "s", "A/A0",
-           "CG its", "s", "A/A0", "CG/FIRE");
+           "%d thread(s), default tolerance%s\n", gfmd_version(), threads,
+           adhesion ? ", adhesion gamma0 = 5e-4, rho = a (no CG: it does not take adhesion)" : "");
+    printf("%5s %7s %9s |", "n", "W", "f(qmin w)");
+    for (int k = 0; k < SWEEP_SOLVERS; ++k) printf(" %7s %8s %8s |", heads[k], "s", "A/A0");
+    printf(" %-14s\n", "auto chose");
     for (int a = 0; a < nsizes; ++a)
         for (int b = 0; b < nwidths; ++b) {
             const int n = (int)sizes[a];
             const double W = widths[b];
             gfmd_sim *s = bench_body(n, W, 0.01, GFMD_SOLVER_AUTO);
             int32_t st = gfmd_set_threads(s, threads);
-            double loads[10], f = 1.0;
-            for (int k = 0; k < 10; ++k) loads[k] = persson_load(s, targets[k]);
+            if (st == GFMD_OK && adhesion) st = gfmd_set_adhesion(s, 5e-4, 1.0);
+            double loads[SWEEP_LOADS], f = 1.0;
+            for (int k = 0; k < SWEEP_LOADS; ++k) loads[k] = persson_load(s, targets[k]);
             if (W > 0) gfmd_green_factor(GFMD_GREEN_LAYER_FLUID, 2.0 * 3.141592653589793 / n * 4.0 * W, 0.0, &f);
             int64_t steps = 0, coarse = 0;
             if (st == GFMD_OK) st = gfmd_set_pressure(s, loads[0]);
@@ -354,38 +403,58 @@ static int sweep_table(const double *sizes, int nsizes, const double *widths, in
                 st = n >= 2048 ? gfmd_relax_multilevel(s, 0.0, 10000000, 4, &steps, &coarse)
                                : gfmd_relax(s, 0.0, 10000000, &steps);
             if (st != GFMD_OK) die(s, st, "first load");
-            int32_t choice = -1;
-            gfmd_sim *c = NULL;
-            if ((st = gfmd_sim_clone(s, &c)) != GFMD_OK) die(s, st, "clone");
-            if ((st = gfmd_set_pressure(c, loads[1])) != GFMD_OK) die(c, st, "pressure");
-            gfmd_get_solver(c, &choice);
-            gfmd_sim_destroy(&c);
-            const int32_t solvers[2] = {W > 0 ? GFMD_SOLVER_MASS_FIRE : GFMD_SOLVER_FIRE, GFMD_SOLVER_CG};
-            long long total[2] = {0, 0};
-            double secs[2] = {0, 0}, area[2] = {0, 0};
-            for (int k = 0; k < 2; ++k) {
+            const int32_t solvers[SWEEP_SOLVERS] = {W > 0 ? GFMD_SOLVER_MASS_FIRE : GFMD_SOLVER_FIRE,
+                                                    GFMD_SOLVER_FIRE_MASS, GFMD_SOLVER_CG, GFMD_SOLVER_AUTO};
+            /* the default's choice at each load, on a clone of the first equilibrium (it depends on
+             * the body, the load and whether the surface is flat): where it is one solver at every
+             * load and that solver has a column, the default is that column's run, not run again */
+            int32_t same = -1;
+            for (int l = 1; l < SWEEP_LOADS; ++l) {
+                gfmd_sim *c = NULL;
+                int32_t choice = -1;
                 if ((st = gfmd_sim_clone(s, &c)) != GFMD_OK) die(s, st, "clone");
-                if ((st = gfmd_set_solver(c, solvers[k])) != GFMD_OK) die(c, st, "solver");
-                const double t0 = now();
-                for (int l = 1; l < 10; ++l) {
-                    if ((st = gfmd_set_pressure(c, loads[l])) != GFMD_OK) die(c, st, "pressure");
-                    if ((st = gfmd_relax(c, 0.0, 10000000, &steps)) != GFMD_OK) die(c, st, "relax");
-                    total[k] += (long long)steps;
-                }
-                secs[k] = now() - t0;
-                gfmd_get_contact_area(c, &area[k]);
+                if ((st = gfmd_set_pressure(c, loads[l])) != GFMD_OK) die(c, st, "pressure");
+                gfmd_get_solver(c, &choice);
                 gfmd_sim_destroy(&c);
+                same = l == 1 ? choice : same == choice ? same : -2;
+            }
+            sweep_run runs[SWEEP_SOLVERS];
+            for (int k = 0; k < SWEEP_SOLVERS; ++k) {
+                runs[k].total = -1;
+                if (solvers[k] == GFMD_SOLVER_CG && (adhesion || !cg)) continue;
+                for (int j = 0; j < k && solvers[k] == GFMD_SOLVER_AUTO; ++j)
+                    if (runs[j].total >= 0 && solvers[j] == same) {
+                        runs[k] = runs[j];
+                        for (int l = 1; l < SWEEP_LOADS; ++l) runs[k].choice[l] = same;
+                    }
+                if (runs[k].total < 0) runs[k] = sweep_continue(s, solvers[k], loads);
             }
             gfmd_sim_destroy(&s);
-            printf("%5d %7g %9.3g %9s | %7lld %8.2f %8.5f | %7lld %8.2f %8.5f | %7.2f\n", n, W, f, solver_name(choice),
-                   total[0], secs[0], area[0], total[1], secs[1], area[1], secs[1] / secs[0]);
+            char chose[64];
+            sweep_choices(&runs[3], chose, sizeof chose);
+            printf("%5d %7g %9.3g |", n, W, f);
+            for (int k = 0; k < SWEEP_SOLVERS; ++k)
+                if (runs[k].total < 0)
+                    printf(" %7s %8s %8s |", "-", "-", "-");
+                else
+                    printf(" %7lld %8.2f %8.5f |", runs[k].total, runs[k].seconds, runs[k].area);
+            printf(" %-14s\n", chose);
+            if (verbose)
+                for (int k = 0; k < SWEEP_SOLVERS; ++k) {
+                    if (runs[k].total < 0) continue;
+                    printf("#   %-6s steps (s) per load:", heads[k]);
+                    for (int l = 1; l < SWEEP_LOADS; ++l) printf(" %lld (%.2f)", runs[k].steps[l], runs[k].secs[l]);
+                    printf("\n");
+                }
             fflush(stdout);
-            /* both stop at the default tolerance of the force residual, not in the same state: their
+            /* all stop at the default tolerance of the force residual, not in the same state: their
              * contact sets may differ by a few points (1 % is 40 points of 64^2 at A/A0 ~ 0.1) */
-            if (!(fabs(area[1] - area[0]) <= 0.01 * area[0])) {
-                fprintf(stderr, "gfmd_bench: the two solvers disagree on A/A0 at the last load\n");
-                return 1;
-            }
+            for (int k = 1; k < SWEEP_SOLVERS; ++k)
+                if (runs[k].total >= 0 && !(fabs(runs[k].area - runs[0].area) <= 0.01 * runs[0].area)) {
+                    fprintf(stderr, "gfmd_bench: the solvers disagree on A/A0 at the last load (%s %.5f, %s %.5f)\n",
+                            heads[0], runs[0].area, heads[k], runs[k].area);
+                    return 1;
+                }
         }
     return 0;
 }
@@ -525,7 +594,7 @@ static int contention_table(const double *sizes, int nsizes) {
 int main(int argc, char **argv) {
     double sizes[8] = {256, 512, 1024, 2048}, widths[8] = {0, 0.5, 1, 4};
     int nsizes = 4, nwidths = 4, threads = 1, cg = 1, alt = 1, contention = 0, multilevel = 0, nloads = 0, big = 0,
-        first_load = 0, sweep = 0, threads_given = 0, sizes_given = 0, widths_given = 0, sigma0_given = 0, adhesion = 0;
+        first_load = 0, sweep = 0, verbose = 0, threads_given = 0, sizes_given = 0, widths_given = 0, sigma0_given = 0, adhesion = 0;
     double loads[8];
     double cg_seconds = 120.0, sigma0 = 0.05, bonded_nu = NAN, first_tol = 0.0;
     int levels = 3;
@@ -535,6 +604,7 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--big")) big = 1;
         else if (!strcmp(argv[i], "--first-load")) first_load = 1;
         else if (!strcmp(argv[i], "--sweep")) sweep = 1;
+        else if (!strcmp(argv[i], "--verbose")) verbose = 1;
         else if (!strcmp(argv[i], "--levels") && i + 1 < argc) levels = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--tol") && i + 1 < argc) first_tol = atof(argv[++i]), first_tol = first_tol > 0.0 ? first_tol : -1.0;
         else if (!strcmp(argv[i], "--widths") && i + 1 < argc) nwidths = parse_list(argv[++i], widths, 8), widths_given = 1;
@@ -558,7 +628,7 @@ int main(int argc, char **argv) {
         if (solver < 0 || !(sigma0 > 0.0) || levels < 1 || first_tol < 0.0) {
             fprintf(stderr, "usage: %s [--sizes 256,512,...] [--big] [--widths 0,0.5,1,4] [--threads N] "
                             "[--cg-seconds S] [--no-cg] [--no-alt] [--sigma0 S] [--solver auto|fire|mass|mass+fire|verlet|cg] "
-                            "[--bonded NU] [--adhesion] | --contention | --sweep | --loads L,.. | --multilevel | --first-load [--levels L] [--tol T] | --big\n", argv[0]);
+                            "[--bonded NU] [--adhesion] | --contention | --sweep [--verbose] | --loads L,.. | --multilevel | --first-load [--levels L] [--tol T] | --big\n", argv[0]);
             return 2;
         }
     }
@@ -577,7 +647,8 @@ int main(int argc, char **argv) {
     if (sweep) {
         const double sweep_sizes[1] = {2048}, sweep_widths[3] = {0.25, 1, 100};
         return sweep_table(sizes_given ? sizes : sweep_sizes, sizes_given ? nsizes : 1,
-                           widths_given ? widths : sweep_widths, widths_given ? nwidths : 3, threads < 1 ? 1 : threads);
+                           widths_given ? widths : sweep_widths, widths_given ? nwidths : 3, threads < 1 ? 1 : threads, adhesion, cg,
+                           verbose);
     }
     if (nloads > 0) return loads_table(sizes, nsizes, widths, nwidths, loads, nloads);
     if (multilevel) return multilevel_table(sizes, nsizes, widths, nwidths, sigma0, solver);
