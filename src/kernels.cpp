@@ -269,7 +269,7 @@ void cg_mask(const double *z, const double *h, const double *f, double *zp, int6
     });
 }
 
-void cg_scale_modes(std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1, int64_t nxh,
+void precondition_modes(std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1, int64_t nxh,
                     double inv_n, double floor) {
     for (int64_t r = r0; r < r1; ++r) {
         std::complex<double> *row = work + r * nxh;

@@ -46,8 +46,9 @@ struct MassUpdate {
 // summed in kLanes lanes per row), per row, the rows in order; mode_energy: the same sum without
 // the scaling (the surface CG's t.K.t).  mark_held: marks the points the wall holds (in contact, pushed into it) and
 // projects the force on the wall.  The surface CG's passes (SurfaceCg, cg.cpp), a point being held
-// where z <= h and f <= 0: cg_mask, zp = f where free, 0 where held; cg_scale_modes, the
-// preconditioner's Fourier rows *= inv_n / max(k, floor); cg_restrict, zp = 0 where held and
+// where z <= h and f <= 0: cg_mask, zp = f where free, 0 where held; precondition_modes, the
+// preconditioner's Fourier rows *= inv_n / max(k, floor) (also mass-weighted FIRE's M^-1 in its
+// power iteration); cg_restrict, zp = 0 where held and
 // acc[0] += f.zp; cg_direction, t = s + b t where free, 0 where held, and acc[0] += f.t; cg_move,
 // z += alpha t stopped at the wall (to_wall: z = h where t < 0) and acc[0] += the points stopped.
 // Polonsky & Keer's passes (PolonskyKeer, pk.cpp), a point being in the contact set where p > 0,
@@ -70,7 +71,7 @@ struct MassUpdate {
     void mass_update(const kernels::MassUpdate &u, double *z, double *v, const double *h, const double *a,     \
                      const unsigned char *held, int64_t n);                                                    \
     void cg_mask(const double *z, const double *h, const double *f, double *zp, int64_t n);                   \
-    void cg_scale_modes(std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1, int64_t nxh,  \
+    void precondition_modes(std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1, int64_t nxh,  \
                         double inv_n, double floor);                                                           \
     void cg_restrict(const double *z, const double *h, const double *f, double *zp, int64_t n, double *acc);  \
     void cg_direction(const double *z, const double *h, const double *f, const double *s, double *t, double b, \
@@ -102,7 +103,7 @@ namespace kernels {
 // X(ns, name) for every pass of the declarations above.
 #define GFMD_KERNEL_NAMES(X, ns)                                                                            \
     X(ns, complete_forces) X(ns, apply_stiffness) X(ns, mode_energy) X(ns, fire_update) X(ns, mark_held) X(ns, mass_update)      \
-    X(ns, cg_mask) X(ns, cg_scale_modes) X(ns, cg_restrict) X(ns, cg_direction) X(ns, cg_move)                \
+    X(ns, cg_mask) X(ns, precondition_modes) X(ns, cg_restrict) X(ns, cg_direction) X(ns, cg_move)                \
     X(ns, pk_direction) X(ns, pk_sums) X(ns, pk_update) X(ns, pk_scale) X(ns, pk_approach) X(ns, pk_gap)       \
     X(ns, pk_scale_modes)
 #define GFMD_KERNEL_FIELD(ns, f) decltype(&ns::f) f;

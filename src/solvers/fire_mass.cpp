@@ -100,12 +100,11 @@ double FireMass::masked_lambda(StepContext &c) {
             x[i] = held[i] ? 0.0 : static_cast<double>(r >> 11) * 0x1.0p-53 - 0.5;
         }
     });
-    // x <- P op(x), op the Fourier scaling by scale(k(q)), in place
-    const auto apply = [&](auto scale) {
+    // x <- P op(x), op the Fourier rows' scaling (K: by k(q); M^-1: the surface CG's
+    // preconditioner, the same inverse masses), in place
+    const auto apply = [&](auto scale_rows) {
         grid.forward(x, work);
-        grid.for_mode_rows([&](int64_t r0, int64_t r1) {
-            for (int64_t k = r0 * nxh; k < r1 * nxh; ++k) work[k] *= scale(stiff[k]);
-        });
+        grid.for_mode_rows(scale_rows);
         grid.backward(work, x);
         grid.for_points([&](int64_t i0, int64_t i1) {
             for (int64_t i = i0; i < i1; ++i)
@@ -121,8 +120,10 @@ double FireMass::masked_lambda(StepContext &c) {
     };
     double x2 = norm2(), lambda = 0.0;
     for (int it = 0; it < kLambdaIterations && x2 > 0.0; ++it) {
-        apply([&](double k) { return k * inv_n; });                      // K
-        apply([&](double k) { return inv_n / std::max(k, floor); });     // M^-1
+        apply([&](int64_t r0, int64_t r1) {  // K
+            for (int64_t k = r0 * nxh; k < r1 * nxh; ++k) work[k] *= stiff[k] * inv_n;
+        });
+        apply([&](int64_t r0, int64_t r1) { kernels::use().precondition_modes(work, stiff, r0, r1, nxh, inv_n, floor); });
         const double y2 = norm2();
         lambda = std::sqrt(y2 / x2);
         if (!(y2 > 0.0)) break;
@@ -181,6 +182,7 @@ void FireMass::advance(StepContext &c) {
     const double inv_n = 1.0 / static_cast<double>(grid.real_size()), floor = floor_;
     std::complex<double> *work = c.fields.work.data();
     const double *stiff = c.body.stiffness.data();
+    // precondition_modes (masked_lambda, the surface CG) with |a|^2 summed in the same pass
     const auto a2 = grid.sum_mode_rows<1>([&](int64_t y0, int64_t y1, double *acc) {
         for (int64_t r = y0; r < y1; ++r) {  // local mode rows
             std::complex<double> *row = work + r * nxh;

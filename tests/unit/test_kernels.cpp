@@ -164,7 +164,7 @@ void run_cg(const Build &b, const Data &d, int64_t n, std::vector<double> &out) 
     b.cg_move(z.data(), d.h.data(), t.data(), 0.3, false, n, acc + 2);
     std::vector<std::complex<double>> work(static_cast<std::size_t>(n));
     for (int64_t i = 0; i < n; ++i) work[i] = {d.f[i], d.v[i]};
-    b.cg_scale_modes(work.data(), d.h.data() /* any positive and negative "stiffness" */, 0, 1, n, 1.0 / 3.0, 0.2);
+    b.precondition_modes(work.data(), d.h.data() /* any positive and negative "stiffness" */, 0, 1, n, 1.0 / 3.0, 0.2);
     for (const auto *a : {&zp, &zp2, &t, &z}) out.insert(out.end(), a->begin(), a->end());
     for (const auto &w : work) {
         out.push_back(w.real());
@@ -178,7 +178,7 @@ struct CgReference {
     void cg_mask(const double *z, const double *h, const double *f, double *zp, int64_t n) const {
         for (int64_t i = 0; i < n; ++i) zp[i] = (z[i] <= h[i] && f[i] <= 0.0) ? 0.0 : f[i];
     }
-    void cg_scale_modes(std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1, int64_t nxh,
+    void precondition_modes(std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1, int64_t nxh,
                         double inv_n, double floor) const {
         for (int64_t i = r0 * nxh; i < r1 * nxh; ++i) work[i] *= inv_n / std::max(stiff[i], floor);
     }
