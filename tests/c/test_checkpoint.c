@@ -423,6 +423,38 @@ static void cg_state_without_count_resumes(void **state) {
     same_surfaces_then_destroy(a, b);
 }
 
+/* A GFMD_SOLVER_MASS_FIRE file written before mass-weighted FIRE kept its frequency estimates per
+ * contact bucket (7 numbers of state: the approach's count, the mass-weighted control's 3 and
+ * FIRE's 3, instead of 1 + 51 + 3) still loads and resumes bit for bit: the approach keeps the
+ * step it had then and never reads the estimates.  Saved inside the approach (37 of its 100
+ * steps) and resumed past its switch to FIRE. */
+static void mass_fire_state_without_estimates_resumes(void **state) {
+    (void)state;
+    gfmd_sim *a = make(GFMD_SOLVER_MASS_FIRE), *b = NULL;
+    TS_OK(a, gfmd_step(a, 37));
+    TS_OK(a, gfmd_sim_save(a, PATH));
+    long n = 0;
+    unsigned char *buf = read_all(PATH, &n);
+    uint32_t k = 0;
+    memcpy(&k, buf + OFF_STATE, 4);
+    assert_int_equal(k, 1 + 51 + 3);
+    double taken = -1.0;
+    memcpy(&taken, buf + OFF_STATE + 4, 8);
+    assert_true(taken == 37.0);
+    const long cut = OFF_STATE + 4 + 8 * (1 + 3), estimates = 8 * 48; /* after the mass-weighted control */
+    memmove(buf + cut, buf + cut + estimates, (size_t)(n - cut - estimates));
+    n -= estimates;
+    k = 7;
+    memcpy(buf + OFF_STATE, &k, 4);
+    write_rehashed5(PATH, buf, n, 3); /* h, z and v */
+    free(buf);
+    char msg[256] = "";
+    if (gfmd_sim_load(PATH, &b, msg, sizeof msg) != GFMD_OK) fail_msg("%s", msg);
+    TS_OK(a, gfmd_step(a, 80));
+    TS_OK(b, gfmd_step(b, 80));
+    same_surfaces_then_destroy(a, b);
+}
+
 /* Files with a valid checksum that are still wrong: unknown flags, and a small file whose header
  * claims a huge grid (refused from its length, before anything is allocated: the message says so). */
 static void forged_headers_are_refused(void **state) {
@@ -491,6 +523,7 @@ int main(void) {
         cmocka_unit_test(auto_choice_survives_restart),
         cmocka_unit_test(cg_restart_is_bit_exact),
         cmocka_unit_test(cg_state_without_count_resumes),
+        cmocka_unit_test(mass_fire_state_without_estimates_resumes),
         cmocka_unit_test(forged_headers_are_refused),
         cmocka_unit_test(failed_save_leaves_nothing),
     };
