@@ -359,6 +359,15 @@ constexpr double kAutoApproachArea = 0.1;
 // (560 s, 450 s).  The wider sheets (W >= 0.5) were not measured so: they keep the approach.
 constexpr double kAutoMassArea = 0.02;
 constexpr double kAutoMassThickness = 6.0;
+// The thinner of those sheets keep it at every load the approach would take, A/A0 < 0.1, where
+// q_max w < 4 (W <= 0.177 at a = lambda_s/4).  Measured at 2048^2 (gfmd_bench --sweep --adhesion
+// --verbose, the study's continuing loads, one thread, two runs side by side; docs/performance.md
+// "The thin sheets' continuing loads"): on W = 0.177 (q_max w = 3.1) mass weighting against the
+// approach then FIRE at A/A0 = 0.03, 0.05, 0.08: 38.0 s against 50.5 s, 33.1 against 40.2, 26.9
+// against 28.9; on W = 0.125 (2.2; whole bodies by gfmd_paper --full, "At 2048^2" there) 64.6
+// against 139.5, 36.4 against 73.2, 29.8 against 49.8; but on W = 0.25 (4.4) 32.6 against 31.6,
+// 30.2 against 25.6, 23.5 against 20.4.
+constexpr double kAutoMassThinnerThickness = 4.0;
 
 int32_t Simulation::resolve_solver(int32_t requested) const {
     if (requested != GFMD_SOLVER_AUTO) return requested;
@@ -376,8 +385,9 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
         const double area = gfmd::persson_contact_area(gfmd::persson_variance(grid_, body_, fields_), params_.sigma0);
         const bool soft = longest_wave_softness(grid_, body_, params_.e_star) >= kAutoApproachSoftness;
         if (!soft || !(area < kAutoApproachArea)) return GFMD_SOLVER_FIRE;
-        const bool thin = shortest_wave_q(grid_) * params_.width < kAutoMassThickness;
-        return (thin && area < kAutoMassArea) ? GFMD_SOLVER_FIRE_MASS : GFMD_SOLVER_MASS_FIRE;
+        const double thickness = shortest_wave_q(grid_) * params_.width;
+        const bool mass = thickness < kAutoMassThinnerThickness || (thickness < kAutoMassThickness && area < kAutoMassArea);
+        return mass ? GFMD_SOLVER_FIRE_MASS : GFMD_SOLVER_MASS_FIRE;
     }
     if (!quadratic) return GFMD_SOLVER_FIRE;
     const double cost = long_wave_softness(grid_, body_, params_.e_star) * std::sqrt(static_cast<double>(grid_.real_size()));

@@ -254,6 +254,24 @@ static int32_t chosen(int64_t n, int32_t kind, double width, double sigma0, doub
     return solver;
 }
 
+/* The same at the load where Persson's A/A0 is `area` (gfmd_persson_load), on a fluid layer. */
+static int32_t chosen_at_area(int64_t n, double width, double area, double gamma0) {
+    gfmd_sim *s = NULL;
+    assert_int_equal(gfmd_sim_create_ex(n, n, (double)n, (double)n, 1, GFMD_PLANNER_ESTIMATE, &s), GFMD_OK);
+    TS_OK(s, gfmd_generate_selfaffine(s, 0.8, (double)n / 8.0, 4.0, 1.0, 1, GFMD_DIST_UNIFORM));
+    TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, width));
+    if (gamma0 > 0.0) TS_OK(s, gfmd_set_adhesion(s, gamma0, 1.0));
+    double load = 0.0, back = 0.0;
+    TS_OK(s, gfmd_persson_load(s, area, &load));
+    TS_OK(s, gfmd_persson_contact_area(s, load, &back));
+    assert_true(fabs(back - area) < 1e-12);
+    TS_OK(s, gfmd_set_pressure(s, load));
+    int32_t solver = -1;
+    TS_OK(s, gfmd_get_solver(s, &solver));
+    gfmd_sim_destroy(&s);
+    return solver;
+}
+
 static void automatic_choice(void **state) {
     (void)state;
     /* half-space: S sqrt(N) = 0.7 n^2, CG up to 4e4 (n = 128: 1.2e4; n = 512: 1.9e5) */
@@ -298,6 +316,16 @@ static void automatic_choice(void **state) {
     assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 2.0, 0.0005, 1e-3, 0), GFMD_SOLVER_MASS_FIRE);
     assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 4.0, 0.002, 1e-3, 0), GFMD_SOLVER_FIRE);
     assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 64.0, 0.002, 1e-3, 0), GFMD_SOLVER_FIRE);
+    /* the thinner sticky sheets, q_max w < 4 (q_max = pi sqrt(2)/a): mass-weighted FIRE wherever
+     * the approach would be taken (A/A0 < 0.1); at q_max w = 4.2 only below A/A0 = 0.02.  Both
+     * sides of both bounds, at 128^2 (f(q_min w) >= 2e4 for all three widths) */
+    const double q_max = acos(-1.0) * sqrt(2.0);
+    assert_int_equal(chosen_at_area(128, 3.8 / q_max, 0.05, 1e-3), GFMD_SOLVER_FIRE_MASS);
+    assert_int_equal(chosen_at_area(128, 3.8 / q_max, 0.09, 1e-3), GFMD_SOLVER_FIRE_MASS);
+    assert_int_equal(chosen_at_area(128, 3.8 / q_max, 0.11, 1e-3), GFMD_SOLVER_FIRE);
+    assert_int_equal(chosen_at_area(128, 4.2 / q_max, 0.05, 1e-3), GFMD_SOLVER_MASS_FIRE);
+    assert_int_equal(chosen_at_area(128, 4.2 / q_max, 0.018, 1e-3), GFMD_SOLVER_FIRE_MASS);
+    assert_int_equal(chosen_at_area(128, 4.2 / q_max, 0.022, 1e-3), GFMD_SOLVER_MASS_FIRE);
     /* without adhesion CG on every layer on a fluid foundation: a thick one (w = 64, f = 1.1) too */
     assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 64.0, 0.002, 0.0, 0), GFMD_SOLVER_CG);
     assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 8.0, 0.002, 0.0, 0), GFMD_SOLVER_CG);
