@@ -232,7 +232,8 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * (preconditioned there), except that from nx ny >= 2048^2 on a load that starts from a deformed
  * surface (not flat: a load continuing from the last equilibrium) takes GFMD_SOLVER_MASS_FIRE
  * there unless the layer is of middle width, f(q_min w) >= 1e4 and q_max w >= 6 with
- * q_max = pi sqrt(2)/a (then CG); with adhesion GFMD_SOLVER_MASS_FIRE on a layer on a fluid foundation
+ * q_max = pi sqrt(2)/a (then CG), or thin, q_max w < 6, at a load where Persson's A/A0 < 0.065
+ * (then GFMD_SOLVER_FIRE_MASS); with adhesion GFMD_SOLVER_MASS_FIRE on a layer on a fluid foundation
  * with f(q_min w) >= 2e4 (W <= 0.5 at 256^2, W <= 4 at 2048^2) at a load where Persson's
  * A/A0 < 0.1, and GFMD_SOLVER_FIRE_MASS there instead if the layer is thin, q_max w < 6, and
  * Persson's A/A0 < 0.02, or thinner, q_max w < 4, at any such load; GFMD_SOLVER_FIRE otherwise; re-chosen whenever the body, the substrate, the
@@ -344,7 +345,7 @@ GFMD_API int32_t gfmd_relax(gfmd_sim *s, double tol, int64_t max_steps, int64_t 
  * spectrum, then lifted onto the substrate where it would penetrate), and relaxed there in turn
  * (GFMD_SOLVER_AUTO chooses again for that deformed start, as for a load that continues: from
  * 2048^2 on, a layer on a fluid foundation without adhesion takes the approach then FIRE there,
- * not the CG of a flat start; a failed call restores the solver of its start), to
+ * or mass-weighted FIRE on a thin sheet at a low load, not the CG of a flat start; a failed call restores the solver of its start), to
  * the same tol and at most @p max_steps steps per grid; then this grid as gfmd_relax() does.  The
  * long waves relax where steps are cheap; measured, that saves 14-24 % of a thin sheet's time
  * from flat with FIRE and 3 % with mass-weighted FIRE (docs/performance.md): the steps a soft

@@ -337,6 +337,14 @@ constexpr double kAutoContinueFirePoints = 2048.0 * 2048.0;
 // q_max w >= 6 (q_max = pi sqrt(2)/a, the grid's corner): both bounds between the rows above.
 constexpr double kAutoContinueCgSoftness = 1e4;
 constexpr double kAutoContinueCgThickness = 6.0;
+// Of the rest, the sheets thinner than the grid resolves (q_max w < 6) take mass-weighted FIRE
+// throughout at the lower loads, Persson's A/A0 < 0.065, once its step fit the masked dynamics
+// (commit 33d8dd2).  Measured (gfmd_bench --sweep --sizes 2048 --no-cg --verbose: the study's
+// continuing loads, one thread, two runs side by side; docs/performance.md "The thin sheets'
+// continuing loads"), mass weighting against the approach then FIRE, load by load: W = 0.125
+// 0.45-0.90x the seconds at A/A0 = 0.008-0.05, 1.11-1.26x at 0.08-0.4; W = 0.044 0.38-0.81x up
+// to 0.08 and 0.86x at 0.12, 1.06-1.18x above; the bound lies between 0.05 and 0.08.
+constexpr double kAutoContinueMassArea = 0.065;
 // With adhesion (CG minimizes the quadratic problem only), at most 100 mass-weighted FIRE steps
 // after each restart, then FIRE (GFMD_SOLVER_MASS_FIRE), where the longest wave is much softer
 // than on a half-space, f(q_min w) = k_halfspace(q_min)/k(q_min) >= 2e4, and the load is low,
@@ -378,9 +386,12 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
         if (quadratic) {
             const bool big = static_cast<double>(grid_.real_size()) >= kAutoContinueFirePoints;
             if (!big || surface_flat()) return GFMD_SOLVER_CG;
-            const bool middle = longest_wave_softness(grid_, body_, params_.e_star) >= kAutoContinueCgSoftness &&
-                                shortest_wave_q(grid_) * params_.width >= kAutoContinueCgThickness;
-            return middle ? GFMD_SOLVER_CG : GFMD_SOLVER_MASS_FIRE;
+            const bool thin = shortest_wave_q(grid_) * params_.width < kAutoContinueCgThickness;
+            const bool soft = longest_wave_softness(grid_, body_, params_.e_star) >= kAutoContinueCgSoftness;
+            if (soft && !thin) return GFMD_SOLVER_CG;  // the middle widths
+            const bool low = thin && gfmd::persson_contact_area(gfmd::persson_variance(grid_, body_, fields_),
+                                                                params_.sigma0) < kAutoContinueMassArea;
+            return low ? GFMD_SOLVER_FIRE_MASS : GFMD_SOLVER_MASS_FIRE;
         }
         const double area = gfmd::persson_contact_area(gfmd::persson_variance(grid_, body_, fields_), params_.sigma0);
         const bool soft = longest_wave_softness(grid_, body_, params_.e_star) >= kAutoApproachSoftness;

@@ -339,7 +339,7 @@ static void automatic_choice(void **state) {
 /* From 2048^2 on, a layer on a fluid foundation without adhesion takes CG for a load that starts
  * from a flat surface and, for one that continues from a deformed surface, CG on the middle widths
  * (f(q_min w) >= 1e4 and q_max w >= 6: w = 4 a) and the approach then FIRE on thinner (w = 0.5 a:
- * q_max w = 2.2) and thicker layers (w = 64 a at 2048^2: f(q_min w) = 800; w = 16 a: 5.1e4 is CG's)
+ * q_max w = 2.2; mass-weighted FIRE there at Persson's A/A0 < 0.065) and thicker layers (w = 64 a at 2048^2: f(q_min w) = 800; w = 16 a: 5.1e4 is CG's)
  * (the rule of gfmd_set_solver(), measured in docs/paper/full.md and docs/performance.md); at
  * 1024^2 CG either way.  The
  * same for the finest grid of a multilevel start, which starts from an interpolated surface.  A
@@ -377,6 +377,19 @@ static void automatic_choice_when_continuing(void **state) {
             TS_OK(s, gfmd_get_solver(s, &solver));
             assert_int_equal(solver, n >= 2048 ? at_2048[w] : GFMD_SOLVER_CG);
         }
+        /* the thin sheet (w = 0.5 a) at the lower loads, Persson's A/A0 < 0.065: mass-weighted
+         * FIRE throughout from 2048^2 on; both sides of the bound */
+        const double areas[2] = {0.06, 0.07};
+        const int32_t thin_2048[2] = {GFMD_SOLVER_FIRE_MASS, GFMD_SOLVER_MASS_FIRE};
+        TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 0.5));
+        for (int a = 0; a < 2; ++a) {
+            double load = 0.0;
+            TS_OK(s, gfmd_persson_load(s, areas[a], &load));
+            TS_OK(s, gfmd_set_pressure(s, load));
+            TS_OK(s, gfmd_get_solver(s, &solver));
+            assert_int_equal(solver, n >= 2048 ? thin_2048[a] : GFMD_SOLVER_CG);
+        }
+        TS_OK(s, gfmd_set_pressure(s, 0.02));
         TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 4.0));
         TS_OK(s, gfmd_reset(s)); /* flat again */
         TS_OK(s, gfmd_get_solver(s, &solver));
