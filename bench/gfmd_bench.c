@@ -18,8 +18,8 @@
  *                                by the default solver, mass-weighted FIRE and the multilevel start
  *   gfmd_bench --sweep [--sizes 2048] [--widths 0.25,1,100] [--threads N]
  *        [--adhesion] [--no-cg] [--verbose]
- *                                the study's continuing loads on each body by the approach then
- *                                FIRE, mass-weighted FIRE, CG and the default (its choices printed)
+ *                                the study's continuing loads on each body by FIRE, the approach
+ *                                then FIRE, mass-weighted FIRE, CG and the default (its choices)
  *   gfmd_bench --big [--sigma0 S] [--threads 2] [--sizes 4096]
  *                                one W = 1 layer from flat to the default tolerance at 4096^2
  *
@@ -327,12 +327,11 @@ static double persson_load(gfmd_sim *s, double area) {
  * gfmd_paper --full: lambda_r = n a/8, seed 2016), with the study's adhesion if asked.  The first
  * load is relaxed once, untimed, by the default solver (from 3 coarser grids at >= 2048^2, flat
  * below, as the study does); from that equilibrium the nine continuing loads are relaxed by each
- * solver on a clone: the approach then FIRE (plain FIRE on the half-space), mass-weighted FIRE
- * throughout, CG (not with adhesion, nor with --no-cg), and the default, which chooses again at
- * every load.  Prints their steps and seconds, the default's choices (one name per run of
- * loads), A/A0 at the last load of each, and with --verbose each solver's steps and seconds per
- * load. */
-enum { SWEEP_LOADS = 10, SWEEP_SOLVERS = 4 };
+ * solver on a clone: FIRE, the approach then FIRE, mass-weighted FIRE throughout, CG (not with
+ * adhesion, nor with --no-cg), and the default, which chooses again at every load.  Prints their
+ * steps and seconds, the default's choices (one name per run of loads), A/A0 at the last load of
+ * each, and with --verbose each solver's steps and seconds per load. */
+enum { SWEEP_LOADS = 10, SWEEP_SOLVERS = 5 };
 
 typedef struct {
     long long steps[SWEEP_LOADS], total;
@@ -379,7 +378,7 @@ static void sweep_choices(const sweep_run *r, char *out, size_t size) {
 static int sweep_table(const double *sizes, int nsizes, const double *widths, int nwidths, int threads, int adhesion,
                        int cg, int verbose) {
     static const double targets[SWEEP_LOADS] = {0.004, 0.008, 0.016, 0.03, 0.05, 0.08, 0.12, 0.18, 0.27, 0.4};
-    static const char *const heads[SWEEP_SOLVERS] = {"m+FIRE", "mass", "CG", "auto"};
+    static const char *const heads[SWEEP_SOLVERS] = {"FIRE", "m+FIRE", "mass", "CG", "auto"};
     printf("gfmd %s: the study's continuing loads (Persson A/A0 = 0.008 ... 0.4 after the first load 0.004), "
            "layers on a fluid foundation (w = 4 W a), H = 0.8, lambda_s = 4a, lambda_r = n a/8, seed 2016, "
            "%d thread(s), default tolerance%s\n", gfmd_version(), threads,
@@ -403,8 +402,8 @@ static int sweep_table(const double *sizes, int nsizes, const double *widths, in
                 st = n >= 2048 ? gfmd_relax_multilevel(s, 0.0, 10000000, 4, &steps, &coarse)
                                : gfmd_relax(s, 0.0, 10000000, &steps);
             if (st != GFMD_OK) die(s, st, "first load");
-            const int32_t solvers[SWEEP_SOLVERS] = {W > 0 ? GFMD_SOLVER_MASS_FIRE : GFMD_SOLVER_FIRE,
-                                                    GFMD_SOLVER_FIRE_MASS, GFMD_SOLVER_CG, GFMD_SOLVER_AUTO};
+            const int32_t solvers[SWEEP_SOLVERS] = {GFMD_SOLVER_FIRE, GFMD_SOLVER_MASS_FIRE, GFMD_SOLVER_FIRE_MASS,
+                                                    GFMD_SOLVER_CG, GFMD_SOLVER_AUTO};
             /* the default's choice at each load, on a clone of the first equilibrium (it depends on
              * the body, the load and whether the surface is flat): where it is one solver at every
              * load and that solver has a column, the default is that column's run, not run again */
@@ -431,7 +430,7 @@ static int sweep_table(const double *sizes, int nsizes, const double *widths, in
             }
             gfmd_sim_destroy(&s);
             char chose[64];
-            sweep_choices(&runs[3], chose, sizeof chose);
+            sweep_choices(&runs[SWEEP_SOLVERS - 1], chose, sizeof chose);
             printf("%5d %7g %9.3g |", n, W, f);
             for (int k = 0; k < SWEEP_SOLVERS; ++k)
                 if (runs[k].total < 0)

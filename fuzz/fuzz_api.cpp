@@ -71,6 +71,10 @@ void check_state(gfmd_sim *s, int64_t n) {
     if (sv == GFMD_OK ? !(v >= 0.0 && std::isfinite(v)) : sv != GFMD_ERR_RANGE) finding();
     const int32_t sa = gfmd_persson_contact_area(s, 0.01, &pa);
     if (sa == GFMD_OK ? !(pa >= 0.0 && pa <= 1.0) : sa != GFMD_ERR_RANGE) finding();
+    // its inverse at an area in (0, 1): a finite load >= 0, or STATE (a flat substrate) or RANGE
+    double load = -1;
+    const int32_t sl = gfmd_persson_load(s, 0.3, &load);
+    if (sl == GFMD_OK ? !(load >= 0.0 && std::isfinite(load)) : (sl != GFMD_ERR_STATE && sl != GFMD_ERR_RANGE)) finding();
 }
 
 // Least squares on a matrix made from the input's remaining bytes: a known status, and on
