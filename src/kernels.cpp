@@ -173,13 +173,15 @@ namespace {
 // The modes of rows [r0, r1) of width nxh: the sum of k |Z|^2 over the full plane (column 0 and a
 // Nyquist column, weight w_last, once; the others twice, their k re^2 and k im^2 in kLanes lanes
 // of the row's interleaved doubles, the lanes added in order), per row, the rows in order; with
-// Scale, each mode *= -k inv_n on the way.
-template <bool Scale>
-inline __attribute__((always_inline)) double row_energies(std::complex<double> *work, const double *stiff, int64_t r0,
-                                                          int64_t r1, int64_t nxh, double inv_n, double w_last) {
+// Scale, each mode *= -k inv_n on the way (Modes then non-const; without, read only).
+template <bool Scale, class Modes>
+inline __attribute__((always_inline)) double row_energies(Modes *work, const double *stiff, int64_t r0, int64_t r1,
+                                                          int64_t nxh, double inv_n, double w_last) {
+    static_assert(Scale ? !std::is_const_v<Modes> : true, "scaling writes the modes");
+    using Real = std::conditional_t<std::is_const_v<Modes>, const double, double>;
     double energy = 0.0;
     for (int64_t r = r0; r < r1; ++r) {
-        double *row = reinterpret_cast<double *>(work + r * nxh);  // re, im interleaved
+        Real *row = reinterpret_cast<Real *>(work + r * nxh);  // re, im interleaved
         const double *krow = stiff + r * nxh;
         double e = krow[0] * std::norm(work[r * nxh]);
         if (nxh > 1) e += (w_last - 2.0) * krow[nxh - 1] * std::norm(work[r * nxh + nxh - 1]);
@@ -209,8 +211,7 @@ double apply_stiffness(std::complex<double> *work, const double *stiff, int64_t 
 
 double mode_energy(const std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1, int64_t nxh,
                    double w_last) {
-    // row_energies<false> only reads the modes
-    return row_energies<false>(const_cast<std::complex<double> *>(work), stiff, r0, r1, nxh, 1.0, w_last);
+    return row_energies<false>(work, stiff, r0, r1, nxh, 1.0, w_last);
 }
 
 void fire_update(const FireUpdate &u, double *__restrict z, double *__restrict v,
