@@ -8,9 +8,10 @@
  * checkpoint resumes bit for bit with GFMD_PLANNER_ESTIMATE, and that exported wisdom imports in a
  * fresh process.  The library's default solver on this small half-space is CG (asserted below), so
  * its contact pressure, grid-sized state in the file, is what the resumed run continues from.
- * Then the same for an adhesive thin sheet at a low load, where the default is the mass-weighted
- * approach then FIRE (asserted): saved inside the approach (60 of its 100 steps), resumed past its
- * switch to FIRE (<dir>/sheet.gfmd, sheet_straight.bin, sheet_resumed.bin). */
+ * Then the same for an adhesive thin sheet at a low load, where the default is mass-weighted FIRE
+ * (asserted; q_max w = 1.1 < 4): saved after 60 steps, with the frequency estimates of the contact
+ * buckets entered so far in its state, resumed for 80 more (<dir>/sheet.gfmd, sheet_straight.bin,
+ * sheet_resumed.bin). */
 #include <gfmd.h>
 #include <stdio.h>
 #include <string.h>
@@ -57,14 +58,14 @@ static int sheet(const char *dir, int resume) {
                ok(s, gfmd_generate_selfaffine(s, 0.8, 16.0, 4.0, 0.1, 9, GFMD_DIST_UNIFORM), "sheet surface") &&
                ok(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 0.25), "sheet body") &&
                ok(s, gfmd_set_adhesion(s, 1e-4, 0.5), "sheet adhesion") &&
-               ok(s, gfmd_set_pressure(s, 1e-5), "sheet pressure") && solver_is(s, GFMD_SOLVER_MASS_FIRE) &&
+               ok(s, gfmd_set_pressure(s, 1e-5), "sheet pressure") && solver_is(s, GFMD_SOLVER_FIRE_MASS) &&
                ok(s, gfmd_step(s, 60), "sheet steps") && ok(s, gfmd_sim_save(s, path), "save sheet") &&
                ok(s, gfmd_step(s, 80), "sheet steps") && write_z(s, dir, "sheet_straight.bin");
     } else {
         char msg[256] = "";
         const int32_t st = gfmd_sim_load(path, &s, msg, sizeof msg);
         if (st != GFMD_OK) fprintf(stderr, "restart_process: load sheet: %s\n", msg);
-        good = st == GFMD_OK && solver_is(s, GFMD_SOLVER_MASS_FIRE) && ok(s, gfmd_step(s, 80), "sheet steps") &&
+        good = st == GFMD_OK && solver_is(s, GFMD_SOLVER_FIRE_MASS) && ok(s, gfmd_step(s, 80), "sheet steps") &&
                write_z(s, dir, "sheet_resumed.bin");
     }
     gfmd_sim_destroy(&s);
