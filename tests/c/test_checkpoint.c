@@ -391,32 +391,42 @@ static void older_formats_resume(void **state) {
     remove(PATH);
 }
 
+/* Saves a (its solver state of `count` numbers checked, the number at `probe` equal to
+ * `expect`), drops `drop` numbers from the state after its first `keep` as an older library's
+ * file would not have them, rehashes the file (`fields` grid fields) and loads it. */
+static gfmd_sim *saved_without(gfmd_sim *a, uint32_t count, int probe, double expect, int keep, int drop, int fields) {
+    TS_OK(a, gfmd_sim_save(a, PATH));
+    long n = 0;
+    unsigned char *buf = read_all(PATH, &n);
+    uint32_t k = 0;
+    memcpy(&k, buf + OFF_STATE, 4);
+    assert_int_equal(k, count);
+    double x = -1.0;
+    memcpy(&x, buf + OFF_STATE + 4 + 8 * probe, 8);
+    assert_true(x == expect);
+    const long cut = OFF_STATE + 4 + 8L * keep, bytes = 8L * drop;
+    memmove(buf + cut, buf + cut + bytes, (size_t)(n - cut - bytes));
+    n -= bytes;
+    k = count - (uint32_t)drop;
+    memcpy(buf + OFF_STATE, &k, 4);
+    write_rehashed5(PATH, buf, n, fields);
+    free(buf);
+    gfmd_sim *b = NULL;
+    char msg[256] = "";
+    if (gfmd_sim_load(PATH, &b, msg, sizeof msg) != GFMD_OK) fail_msg("%s", msg);
+    return b;
+}
+
 /* A CG file of this format written before the pressure CG kept its iteration count (7 numbers of
  * state instead of 8; the count schedules the convergence test, every third iteration since the
  * restart) still loads, with the count 0, and resumes the same iterates: saved at a count that is
  * a multiple of three, the schedule is the same too, so relax stops at the same step. */
 static void cg_state_without_count_resumes(void **state) {
     (void)state;
-    gfmd_sim *a = make_cg_body(), *b = NULL;
+    gfmd_sim *a = make_cg_body();
     TS_OK(a, gfmd_step(a, 6));
-    TS_OK(a, gfmd_sim_save(a, PATH));
-    long n = 0;
-    unsigned char *buf = read_all(PATH, &n);
-    uint32_t k = 0;
-    memcpy(&k, buf + OFF_STATE, 4);
-    assert_int_equal(k, 8);
-    double count = -1.0;
-    memcpy(&count, buf + OFF_STATE + 4 + 7 * 8, 8);
-    assert_true(count == 6.0);
-    const long cut = OFF_STATE + 4 + 7 * 8; /* drop the count: 7 numbers */
-    memmove(buf + cut, buf + cut + 8, (size_t)(n - cut - 8));
-    n -= 8;
-    k = 7;
-    memcpy(buf + OFF_STATE, &k, 4);
-    write_rehashed5(PATH, buf, n, 4); /* h, z, v and the pressure */
-    free(buf);
-    char msg[256] = "";
-    if (gfmd_sim_load(PATH, &b, msg, sizeof msg) != GFMD_OK) fail_msg("%s", msg);
+    /* 8 numbers, the count last (6); dropped: 7; fields h, z, v and the pressure */
+    gfmd_sim *b = saved_without(a, 8, 7, 6.0, 7, 1, 4);
     int64_t sa = 0, sb = 0;
     TS_OK(a, gfmd_relax(a, 1e-9, 100000, &sa));
     TS_OK(b, gfmd_relax(b, 1e-9, 100000, &sb));
@@ -431,26 +441,11 @@ static void cg_state_without_count_resumes(void **state) {
  * steps) and resumed past its switch to FIRE. */
 static void mass_fire_state_without_estimates_resumes(void **state) {
     (void)state;
-    gfmd_sim *a = make(GFMD_SOLVER_MASS_FIRE), *b = NULL;
+    gfmd_sim *a = make(GFMD_SOLVER_MASS_FIRE);
     TS_OK(a, gfmd_step(a, 37));
-    TS_OK(a, gfmd_sim_save(a, PATH));
-    long n = 0;
-    unsigned char *buf = read_all(PATH, &n);
-    uint32_t k = 0;
-    memcpy(&k, buf + OFF_STATE, 4);
-    assert_int_equal(k, 1 + 51 + 3);
-    double taken = -1.0;
-    memcpy(&taken, buf + OFF_STATE + 4, 8);
-    assert_true(taken == 37.0);
-    const long cut = OFF_STATE + 4 + 8 * (1 + 3), estimates = 8 * 48; /* after the mass-weighted control */
-    memmove(buf + cut, buf + cut + estimates, (size_t)(n - cut - estimates));
-    n -= estimates;
-    k = 7;
-    memcpy(buf + OFF_STATE, &k, 4);
-    write_rehashed5(PATH, buf, n, 3); /* h, z and v */
-    free(buf);
-    char msg[256] = "";
-    if (gfmd_sim_load(PATH, &b, msg, sizeof msg) != GFMD_OK) fail_msg("%s", msg);
+    /* 1 + 51 + 3 numbers, the approach's count first (37); the 48 estimates after the
+     * mass-weighted control dropped; fields h, z and v */
+    gfmd_sim *b = saved_without(a, 1 + 51 + 3, 0, 37.0, 1 + 3, 48, 3);
     TS_OK(a, gfmd_step(a, 80));
     TS_OK(b, gfmd_step(b, 80));
     same_surfaces_then_destroy(a, b);
