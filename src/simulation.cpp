@@ -389,11 +389,10 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
             const bool thin = shortest_wave_q(grid_) * params_.width < kAutoContinueCgThickness;
             const bool soft = longest_wave_softness(grid_, body_, params_.e_star) >= kAutoContinueCgSoftness;
             if (soft && !thin) return GFMD_SOLVER_CG;  // the middle widths
-            const bool low = thin && gfmd::persson_contact_area(gfmd::persson_variance(grid_, body_, fields_),
-                                                                params_.sigma0) < kAutoContinueMassArea;
+            const bool low = thin && persson_contact_area(params_.sigma0) < kAutoContinueMassArea;
             return low ? GFMD_SOLVER_FIRE_MASS : GFMD_SOLVER_MASS_FIRE;
         }
-        const double area = gfmd::persson_contact_area(gfmd::persson_variance(grid_, body_, fields_), params_.sigma0);
+        const double area = persson_contact_area(params_.sigma0);
         const bool soft = longest_wave_softness(grid_, body_, params_.e_star) >= kAutoApproachSoftness;
         if (!soft || !(area < kAutoApproachArea)) return GFMD_SOLVER_FIRE;
         const double thickness = shortest_wave_q(grid_) * params_.width;
