@@ -345,6 +345,17 @@ constexpr double kAutoContinueCgThickness = 6.0;
 // 0.45-0.90x the seconds at A/A0 = 0.008-0.05, 1.11-1.26x at 0.08-0.4; W = 0.044 0.38-0.81x up
 // to 0.08 and 0.86x at 0.12, 1.06-1.18x above; the bound lies between 0.05 and 0.08.
 constexpr double kAutoContinueMassArea = 0.065;
+// And the approach's 100 mass-weighted steps (two FFT pairs each) pay only while FIRE needs many
+// steps: at the higher loads plain FIRE.  Measured at 2048^2 on --full's substrate (the sweep's
+// FIRE column, one thread, two runs side by side; docs/performance.md "Plain FIRE at the higher
+// loads"): on W = 100 and W = 10 the approach won at A/A0 = 0.008-0.03 (W = 10: 42.9 s against
+// FIRE's 44.3 s, 28.0 against 38.1, 23.8 against 29.7), FIRE every load from 0.05 on (W = 100:
+// 9.2-15.7 s against 14.1-18.7 s; W = 10: 9.0-20.2 s against 14.8-22.6 s): the bound 0.04 between.
+// The thin sheets need FIRE's many steps longer: the approach still won at 0.05-0.12 on W = 0.125
+// (55.2 s against 63.4, 46.6 against 57.8, 36.2 against 43.9) and FIRE from 0.18 on (24.1 s
+// against 32.1): their bound 0.15.
+constexpr double kAutoContinueFireArea = 0.04;
+constexpr double kAutoContinueThinFireArea = 0.15;
 // With adhesion (CG minimizes the quadratic problem only), at most 100 mass-weighted FIRE steps
 // after each restart, then FIRE (GFMD_SOLVER_MASS_FIRE), where the longest wave is much softer
 // than on a half-space, f(q_min w) = k_halfspace(q_min)/k(q_min) >= 2e4, and the load is low,
@@ -389,8 +400,10 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
             const bool thin = shortest_wave_q(grid_) * params_.width < kAutoContinueCgThickness;
             const bool soft = longest_wave_softness(grid_, body_, params_.e_star) >= kAutoContinueCgSoftness;
             if (soft && !thin) return GFMD_SOLVER_CG;  // the middle widths
-            const bool low = thin && persson_contact_area(params_.sigma0) < kAutoContinueMassArea;
-            return low ? GFMD_SOLVER_FIRE_MASS : GFMD_SOLVER_MASS_FIRE;
+            const double area = persson_contact_area(params_.sigma0);
+            if (thin && area < kAutoContinueMassArea) return GFMD_SOLVER_FIRE_MASS;
+            return area < (thin ? kAutoContinueThinFireArea : kAutoContinueFireArea) ? GFMD_SOLVER_MASS_FIRE
+                                                                                      : GFMD_SOLVER_FIRE;
         }
         const double area = persson_contact_area(params_.sigma0);
         const bool soft = longest_wave_softness(grid_, body_, params_.e_star) >= kAutoApproachSoftness;
