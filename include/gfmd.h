@@ -406,9 +406,10 @@ GFMD_API int32_t gfmd_get_pressure(const gfmd_sim *s, double *p);
  * variance V of the pressure the body would carry in full contact,
  * V = sum over q != 0 of |h(q)|^2 / G(q)^2 (full plane, h(q) the Fourier coefficients normalized so
  * that sum_q |h(q)|^2 = <h^2>), with the handle's G(q) (half-space or layer).  For a half-space,
- * V = (E* g / 2)^2 with g the rms gradient.  Does not change the handle; each call transforms
- * the substrate once (one FFT, one temporary half-spectrum), so for many loads take V once and
- * evaluate erf yourself.
+ * V = (E* g / 2)^2 with g the rms gradient.  Does not change the handle's state; V is computed
+ * at the first call after the substrate or the body changed (one FFT, one temporary
+ * half-spectrum) and kept with them, so later calls -- and the automatic solver choice at each
+ * change of load -- reuse it.
  * @return GFMD_ERR_RANGE if V overflows double precision.
  */
 GFMD_API int32_t gfmd_persson_variance(const gfmd_sim *s, double *variance);
@@ -427,7 +428,7 @@ GFMD_API int32_t gfmd_persson_contact_area(const gfmd_sim *s, double sigma0, dou
  * contact area is @p rel_area, sigma0 = sqrt(2 V) x with erf(x) = rel_area (x by bisection to
  * the last bit: erf for rel_area <= 1/2, erfc(x) = 1 - rel_area above, so that areas near 1 keep
  * their digits).  A load sweep at chosen Persson areas (as the study's) takes its loads from here.
- * Does not change the handle; each call transforms the substrate once, as gfmd_persson_variance().
+ * Does not change the handle's state; V as in gfmd_persson_variance().
  * @param rel_area finite, in [0, 1) (0 gives 0).
  * @return GFMD_ERR_INVALID_ARG for rel_area outside [0, 1) or not finite, GFMD_ERR_STATE for a
  *         flat substrate (V = 0: full contact under any positive load) with rel_area > 0.

@@ -62,6 +62,7 @@ std::unique_ptr<Simulation> Simulation::clone() const {
     c->body_.k_min = body_.k_min;
     c->body_.k_max = body_.k_max;
     c->dynamics_ = dynamics_;
+    c->persson_v_ = persson_v_;
     c->fields_.h = copy_of(fields_.h);
     c->fields_.z = copy_of(fields_.z);
     c->fields_.v = copy_of(fields_.v);
@@ -109,11 +110,13 @@ void Simulation::change_body(const char *what, const Params &p) {
             params_ = p;
             std::swap(body_, b);
             dynamics_ = dynamics_for(params_, body_);
+            persson_v_.reset();
         },
         [&] {
             params_ = old_params;
             std::swap(body_, b);
             dynamics_ = old_dynamics;
+            persson_v_.reset();
         });
 }
 
@@ -160,11 +163,13 @@ void Simulation::change_substrate(RealBuffer &&h) {
         "this substrate",
         [&] {
             std::swap(fields_.h, h);
+            persson_v_.reset();
             fields_.put_flat_at_rest(grid_);
             apply_control();
         },
         [&] {
             std::swap(fields_.h, h);
+            persson_v_.reset();
             undo_.restore(fields_);
         });
 }
@@ -616,7 +621,10 @@ void Simulation::heights(double *out) const { std::copy(fields_.h.data(), fields
 void Simulation::gap(double *out) const { gfmd::gap(fields_, out); }
 void Simulation::surface(double *out) const { std::copy(fields_.z.data(), fields_.z.data() + fields_.z.size(), out); }
 void Simulation::pressure(double *out) const { gfmd::pressure(params_, fields_, out); }
-double Simulation::persson_variance() const { return gfmd::persson_variance(grid_, body_, fields_); }
+double Simulation::persson_variance() const {
+    if (!persson_v_) persson_v_ = gfmd::persson_variance(grid_, body_, fields_);
+    return *persson_v_;
+}
 double Simulation::persson_contact_area(double sigma0) const {
     require_finite(sigma0, "sigma0");
     if (sigma0 < 0.0) fail(GFMD_ERR_INVALID_ARG, "sigma0 must be >= 0, got " + num(sigma0));

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 
 #include "fft_grid.hpp"
 #include "fields.hpp"
@@ -116,6 +117,10 @@ private:
     Fields fields_;
     Snapshot undo_;
     ForceState forces_;
+    // Persson's full-contact pressure variance: a function of the substrate and the body only,
+    // computed (one transform of h, a half-spectrum for the call) at its first use after either
+    // changed, not at every change of load that asks for it (the automatic choice, persson_load)
+    mutable std::optional<double> persson_v_;
     int32_t active_solver_;
     std::unique_ptr<Solver> solver_;
 };

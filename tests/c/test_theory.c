@@ -46,6 +46,50 @@ static void halfspace_variance_is_gradient(void **state) {
     gfmd_sim_destroy(&s);
 }
 
+/* V of a fresh handle made with the given substrate seed, modulus and layer width (0: half-space). */
+static double fresh_variance(uint64_t seed, double e_star, double width) {
+    gfmd_sim *f = ts_create(96, 64, 96.0, 64.0);
+    if (width > 0.0) TS_OK(f, gfmd_set_green(f, GFMD_GREEN_LAYER_FLUID, width));
+    TS_OK(f, gfmd_set_modulus(f, e_star));
+    TS_OK(f, gfmd_generate_selfaffine(f, 0.8, 32.0, 4.0, 0.7, seed, GFMD_DIST_UNIFORM));
+    const double v = variance(f);
+    gfmd_sim_destroy(&f);
+    return v;
+}
+
+/* V is kept with the substrate and the body (computed at its first use after either changed):
+ * after every change of either it is, bit for bit, that of a fresh handle made with the new
+ * settings; a change that fails, a change of load and a clone keep it. */
+static void variance_follows_substrate_and_body(void **state) {
+    (void)state;
+    gfmd_sim *s = ts_create(96, 64, 96.0, 64.0);
+    TS_OK(s, gfmd_generate_selfaffine(s, 0.8, 32.0, 4.0, 0.7, 5, GFMD_DIST_UNIFORM));
+    const double v0 = variance(s);
+    assert_true(v0 == fresh_variance(5, 1.0, 0.0));
+    TS_OK(s, gfmd_set_modulus(s, 2.5));
+    assert_true(variance(s) == fresh_variance(5, 2.5, 0.0));
+    TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 2.0));
+    const double layer = variance(s);
+    assert_true(layer == fresh_variance(5, 2.5, 2.0));
+    assert_true(layer != v0);
+    assert_int_equal(gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, -1.0), GFMD_ERR_INVALID_ARG);
+    TS_OK(s, gfmd_set_pressure(s, 0.3));
+    assert_true(variance(s) == layer);
+    gfmd_sim *c = NULL;
+    TS_OK(s, gfmd_sim_clone(s, &c));
+    assert_true(variance(c) == layer);
+    gfmd_sim_destroy(&c);
+    TS_OK(s, gfmd_generate_selfaffine(s, 0.8, 32.0, 4.0, 0.7, 6, GFMD_DIST_UNIFORM));
+    assert_true(variance(s) == fresh_variance(6, 2.5, 2.0));
+    double *h = malloc(96 * 64 * sizeof *h);
+    assert_non_null(h);
+    for (int i = 0; i < 96 * 64; ++i) h[i] = 0.0;
+    TS_OK(s, gfmd_set_heights(s, h)); /* flat: V = 0 */
+    assert_true(variance(s) == 0.0);
+    free(h);
+    gfmd_sim_destroy(&s);
+}
+
 /* The load for a Persson area: on the half-space V = (E* g/2)^2, so the load for A/A0 = 1/2 is
  * sqrt(2 V) erfinv(1/2), erfinv(1/2) = 0.476936276204469873381418353643 (tabulated; 1e-12 for V's
  * own rounding, above).  Everywhere else the inverse is checked against erf and erfc themselves
@@ -241,7 +285,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(halfspace_variance_is_gradient), cmocka_unit_test(sinusoid_layer_variance),
         cmocka_unit_test(persson_thin_plate_scaling),     cmocka_unit_test(persson_bad_input),
-        cmocka_unit_test(persson_load_inverts_area),
+        cmocka_unit_test(persson_load_inverts_area),      cmocka_unit_test(variance_follows_substrate_and_body),
         cmocka_unit_test(least_squares_known),
         cmocka_unit_test(least_squares_bad_input),
     };
