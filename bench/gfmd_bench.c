@@ -17,9 +17,11 @@
  *                                a thin sheet's first load from flat, with and without adhesion,
  *                                by the default solver, mass-weighted FIRE and the multilevel start
  *   gfmd_bench --sweep [--sizes 2048] [--widths 0.25,1,100] [--threads N]
- *        [--adhesion] [--no-cg] [--verbose]
+ *        [--adhesion] [--no-cg] [--verbose] [--from A]
  *                                the study's continuing loads on each body by FIRE, the approach
- *                                then FIRE, mass-weighted FIRE, CG and the default (its choices)
+ *                                then FIRE, mass-weighted FIRE, CG and the default (its choices);
+ *                                --from: those at Persson's A/A0 >= A only (the lower ones
+ *                                relaxed once by the default, untimed)
  *   gfmd_bench --big [--sigma0 S] [--threads 2] [--sizes 4096]
  *                                one W = 1 layer from flat to the default tolerance at 4096^2
  *
@@ -340,13 +342,13 @@ typedef struct {
 } sweep_run;
 
 /* The nine continuing loads on a clone of s by `solver`, timed load by load. */
-static sweep_run sweep_continue(gfmd_sim *s, int32_t solver, const double *loads) {
+static sweep_run sweep_continue(gfmd_sim *s, int32_t solver, const double *loads, int first) {
     sweep_run r = {{0}, 0, {0}, 0.0, 0.0, {0}};
     gfmd_sim *c = NULL;
     int32_t st = gfmd_sim_clone(s, &c);
     if (st != GFMD_OK) die(s, st, "clone");
     if ((st = gfmd_set_solver(c, solver)) != GFMD_OK) die(c, st, "solver");
-    for (int l = 1; l < SWEEP_LOADS; ++l) {
+    for (int l = first; l < SWEEP_LOADS; ++l) {
         int64_t steps = 0;
         if ((st = gfmd_set_pressure(c, loads[l])) != GFMD_OK) die(c, st, "pressure");
         gfmd_get_solver(c, &r.choice[l]);
@@ -363,26 +365,27 @@ static sweep_run sweep_continue(gfmd_sim *s, int32_t solver, const double *loads
 }
 
 /* The default's choices over the continuing loads, e.g. "mass/m+FIRE" (one name per run). */
-static void sweep_choices(const sweep_run *r, char *out, size_t size) {
+static void sweep_choices(const sweep_run *r, int first, char *out, size_t size) {
     static const char *const shortnames[] = {"Verlet", "FIRE", "mass", "CG", "auto", "m+FIRE"};
     out[0] = '\0';
-    for (int l = 1; l < SWEEP_LOADS; ++l) {
-        if (l > 1 && r->choice[l] == r->choice[l - 1]) continue;
+    for (int l = first; l < SWEEP_LOADS; ++l) {
+        if (l > first && r->choice[l] == r->choice[l - 1]) continue;
         const int32_t k = r->choice[l];
         const char *name = k >= 0 && k < 6 ? shortnames[k] : "?";
         const size_t used = strlen(out);
-        snprintf(out + used, size - used, "%s%s", l > 1 ? "/" : "", name);
+        snprintf(out + used, size - used, "%s%s", l > first ? "/" : "", name);
     }
 }
 
 static int sweep_table(const double *sizes, int nsizes, const double *widths, int nwidths, int threads, int adhesion,
-                       int cg, int verbose) {
+                       int cg, int verbose, double from) {
     static const double targets[SWEEP_LOADS] = {0.004, 0.008, 0.016, 0.03, 0.05, 0.08, 0.12, 0.18, 0.27, 0.4};
     static const char *const heads[SWEEP_SOLVERS] = {"FIRE", "m+FIRE", "mass", "CG", "auto"};
     printf("gfmd %s: the study's continuing loads (Persson A/A0 = 0.008 ... 0.4 after the first load 0.004), "
            "layers on a fluid foundation (w = 4 W a), H = 0.8, lambda_s = 4a, lambda_r = n a/8, seed 2016, "
            "%d thread(s), default tolerance%s\n", gfmd_version(), threads,
            adhesion ? ", adhesion gamma0 = 5e-4, rho = a (no CG: it does not take adhesion)" : "");
+    if (from > 0.0) printf("the loads below Persson's A/A0 = %g relaxed once by the default, untimed; the columns from there\n", from);
     printf("%5s %7s %9s |", "n", "W", "f(qmin w)");
     for (int k = 0; k < SWEEP_SOLVERS; ++k) printf(" %7s %8s %8s |", heads[k], "s", "A/A0");
     printf(" %-14s\n", "auto chose");
@@ -402,20 +405,29 @@ static int sweep_table(const double *sizes, int nsizes, const double *widths, in
                 st = n >= 2048 ? gfmd_relax_multilevel(s, 0.0, 10000000, 4, &steps, &coarse)
                                : gfmd_relax(s, 0.0, 10000000, &steps);
             if (st != GFMD_OK) die(s, st, "first load");
+            int first = 1; /* --from: the lower continuing loads once, by the default, untimed */
+            for (; first < SWEEP_LOADS && targets[first] < from; ++first)
+                if ((st = gfmd_set_pressure(s, loads[first])) != GFMD_OK ||
+                    (st = gfmd_relax(s, 0.0, 10000000, &steps)) != GFMD_OK)
+                    die(s, st, "a load below --from");
+            if (first == SWEEP_LOADS) {
+                fprintf(stderr, "gfmd_bench: --from %g leaves no load to compare\n", from);
+                return 1;
+            }
             const int32_t solvers[SWEEP_SOLVERS] = {GFMD_SOLVER_FIRE, GFMD_SOLVER_MASS_FIRE, GFMD_SOLVER_FIRE_MASS,
                                                     GFMD_SOLVER_CG, GFMD_SOLVER_AUTO};
             /* the default's choice at each load, on a clone of the first equilibrium (it depends on
              * the body, the load and whether the surface is flat): where it is one solver at every
              * load and that solver has a column, the default is that column's run, not run again */
             int32_t same = -1;
-            for (int l = 1; l < SWEEP_LOADS; ++l) {
+            for (int l = first; l < SWEEP_LOADS; ++l) {
                 gfmd_sim *c = NULL;
                 int32_t choice = -1;
                 if ((st = gfmd_sim_clone(s, &c)) != GFMD_OK) die(s, st, "clone");
                 if ((st = gfmd_set_pressure(c, loads[l])) != GFMD_OK) die(c, st, "pressure");
                 gfmd_get_solver(c, &choice);
                 gfmd_sim_destroy(&c);
-                same = l == 1 ? choice : same == choice ? same : -2;
+                same = l == first ? choice : same == choice ? same : -2;
             }
             sweep_run runs[SWEEP_SOLVERS];
             for (int k = 0; k < SWEEP_SOLVERS; ++k) {
@@ -424,13 +436,13 @@ static int sweep_table(const double *sizes, int nsizes, const double *widths, in
                 for (int j = 0; j < k && solvers[k] == GFMD_SOLVER_AUTO; ++j)
                     if (runs[j].total >= 0 && solvers[j] == same) {
                         runs[k] = runs[j];
-                        for (int l = 1; l < SWEEP_LOADS; ++l) runs[k].choice[l] = same;
+                        for (int l = first; l < SWEEP_LOADS; ++l) runs[k].choice[l] = same;
                     }
-                if (runs[k].total < 0) runs[k] = sweep_continue(s, solvers[k], loads);
+                if (runs[k].total < 0) runs[k] = sweep_continue(s, solvers[k], loads, first);
             }
             gfmd_sim_destroy(&s);
             char chose[64];
-            sweep_choices(&runs[SWEEP_SOLVERS - 1], chose, sizeof chose);
+            sweep_choices(&runs[SWEEP_SOLVERS - 1], first, chose, sizeof chose);
             printf("%5d %7g %9.3g |", n, W, f);
             for (int k = 0; k < SWEEP_SOLVERS; ++k)
                 if (runs[k].total < 0)
@@ -442,7 +454,7 @@ static int sweep_table(const double *sizes, int nsizes, const double *widths, in
                 for (int k = 0; k < SWEEP_SOLVERS; ++k) {
                     if (runs[k].total < 0) continue;
                     printf("#   %-6s steps (s) per load:", heads[k]);
-                    for (int l = 1; l < SWEEP_LOADS; ++l) printf(" %lld (%.2f)", runs[k].steps[l], runs[k].secs[l]);
+                    for (int l = first; l < SWEEP_LOADS; ++l) printf(" %lld (%.2f)", runs[k].steps[l], runs[k].secs[l]);
                     printf("\n");
                 }
             fflush(stdout);
@@ -593,9 +605,9 @@ static int contention_table(const double *sizes, int nsizes) {
 int main(int argc, char **argv) {
     double sizes[8] = {256, 512, 1024, 2048}, widths[8] = {0, 0.5, 1, 4};
     int nsizes = 4, nwidths = 4, threads = 1, cg = 1, alt = 1, contention = 0, multilevel = 0, nloads = 0, big = 0,
-        first_load = 0, sweep = 0, verbose = 0, threads_given = 0, sizes_given = 0, widths_given = 0, sigma0_given = 0, adhesion = 0;
+        first_load = 0, sweep = 0, verbose = 0, from_given = 0, threads_given = 0, sizes_given = 0, widths_given = 0, sigma0_given = 0, adhesion = 0;
     double loads[8];
-    double cg_seconds = 120.0, sigma0 = 0.05, bonded_nu = NAN, first_tol = 0.0;
+    double cg_seconds = 120.0, sigma0 = 0.05, bonded_nu = NAN, first_tol = 0.0, sweep_from = 0.0;
     int levels = 3;
     int32_t solver = GFMD_SOLVER_AUTO;
     for (int i = 1; i < argc; ++i) {
@@ -604,6 +616,7 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--first-load")) first_load = 1;
         else if (!strcmp(argv[i], "--sweep")) sweep = 1;
         else if (!strcmp(argv[i], "--verbose")) verbose = 1;
+        else if (!strcmp(argv[i], "--from") && i + 1 < argc) sweep_from = atof(argv[++i]), from_given = 1;
         else if (!strcmp(argv[i], "--levels") && i + 1 < argc) levels = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--tol") && i + 1 < argc) first_tol = atof(argv[++i]), first_tol = first_tol > 0.0 ? first_tol : -1.0;
         else if (!strcmp(argv[i], "--widths") && i + 1 < argc) nwidths = parse_list(argv[++i], widths, 8), widths_given = 1;
@@ -627,7 +640,7 @@ int main(int argc, char **argv) {
         if (solver < 0 || !(sigma0 > 0.0) || levels < 1 || first_tol < 0.0) {
             fprintf(stderr, "usage: %s [--sizes 256,512,...] [--big] [--widths 0,0.5,1,4] [--threads N] "
                             "[--cg-seconds S] [--no-cg] [--no-alt] [--sigma0 S] [--solver auto|fire|mass|mass+fire|verlet|cg] "
-                            "[--bonded NU] [--adhesion] | --contention | --sweep [--verbose] | --loads L,.. | --multilevel | --first-load [--levels L] [--tol T] | --big\n", argv[0]);
+                            "[--bonded NU] [--adhesion] | --contention | --sweep [--verbose] [--from A] | --loads L,.. | --multilevel | --first-load [--levels L] [--tol T] | --big\n", argv[0]);
             return 2;
         }
     }
@@ -643,11 +656,15 @@ int main(int argc, char **argv) {
         return first_load_table(sizes_given ? sizes : first_sizes, sizes_given ? nsizes : 3, widths_given ? widths : thin,
                                 widths_given ? nwidths : 2, threads < 1 ? 1 : threads, levels, first_tol);
     }
+    if (from_given && !(sweep_from > 0.0 && sweep_from <= 0.4)) {
+        fprintf(stderr, "gfmd_bench: --from takes a Persson area in (0, 0.4]\n");
+        return 2;
+    }
     if (sweep) {
         const double sweep_sizes[1] = {2048}, sweep_widths[3] = {0.25, 1, 100};
         return sweep_table(sizes_given ? sizes : sweep_sizes, sizes_given ? nsizes : 1,
                            widths_given ? widths : sweep_widths, widths_given ? nwidths : 3, threads < 1 ? 1 : threads, adhesion, cg,
-                           verbose);
+                           verbose, sweep_from);
     }
     if (nloads > 0) return loads_table(sizes, nsizes, widths, nwidths, loads, nloads);
     if (multilevel) return multilevel_table(sizes, nsizes, widths, nwidths, sigma0, solver);
