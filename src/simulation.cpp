@@ -351,14 +351,14 @@ constexpr double kAutoContinueCgThickness = 6.0;
 // to 0.08 and 0.86x at 0.12, 1.06-1.18x above; the bound lies between 0.05 and 0.08.
 constexpr double kAutoContinueMassArea = 0.065;
 // And the approach's 100 mass-weighted steps (two FFT pairs each) pay only while FIRE needs many
-// steps: at the higher loads plain FIRE.  Measured at 2048^2 on --full's substrate (the sweep's
-// FIRE column, one thread, two runs side by side; docs/performance.md "Plain FIRE at the higher
-// loads"): on W = 100 and W = 10 the approach won at A/A0 = 0.008-0.03 (W = 10: 42.9 s against
-// FIRE's 44.3 s, 28.0 against 38.1, 23.8 against 29.7), FIRE every load from 0.05 on (W = 100:
-// 9.2-15.7 s against 14.1-18.7 s; W = 10: 9.0-20.2 s against 14.8-22.6 s): the bound 0.04 between.
-// The thin sheets need FIRE's many steps longer: the approach still won at 0.05-0.12 on W = 0.125
-// (55.2 s against 63.4, 46.6 against 57.8, 36.2 against 43.9) and FIRE from 0.18 on (24.1 s
-// against 32.1): their bound 0.15.
+// steps: at the higher loads plain FIRE.  Measured at 2048^2 on --full's substrate (gfmd_bench
+// --sweep --verbose, one thread, two runs side by side; docs/performance.md "Plain FIRE at the
+// higher loads"): the approach won at A/A0 = 0.008-0.03 on W = 10 (44.1 s against FIRE's
+// 45.9 s, 28.6 against 40.7, 25.4 against 31.5) and at 0.008 and 0.03 on W = 100, FIRE every load from 0.05 on
+// (W = 100: 9.1-16.3 s against 14.3-19.1 s; W = 10: 9.0-21.2 s against 14.4-23.4 s): the bound
+// 0.04 between.  The thin sheets need FIRE's many steps longer: on W = 0.125 (--from 0.05) the
+// approach won at 0.05-0.12 (39.2 s against 46.4, 29.6 against 42.3, 23.2 against 31.7), FIRE
+// from 0.18 on (18.3 s against 19.3, 14.8 against 20.0, 12.3 against 16.0): their bound 0.15.
 constexpr double kAutoContinueFireArea = 0.04;
 constexpr double kAutoContinueThinFireArea = 0.15;
 // With adhesion (CG minimizes the quadratic problem only), at most 100 mass-weighted FIRE steps
