@@ -255,7 +255,7 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * gfmd_set_adhesion() with gamma0 > 0 refuses while it is chosen; one "step" of
  * gfmd_step()/gfmd_relax() is one iteration; the same convergence test as the others),
  * GFMD_SOLVER_FIRE (adapts its step up to
- * the time step and needs no damping), GFMD_SOLVER_FIRE_MASS (FIRE with each Fourier mode's inertia
+ * 1.3 times the time step and needs no damping), GFMD_SOLVER_FIRE_MASS (FIRE with each Fourier mode's inertia
  * taken from its stiffness, floored at the stiffness of the current contact spacing; points the wall
  * holds are kept still; its own time step, set for the highest frequency of that masked dynamics,
  * so gfmd_set_timestep() does not apply) or

@@ -148,7 +148,7 @@ void FireMass::advance(StepContext &c) {
     // a clamp puts in is caught as an uphill step.
     update_mass_floor(c);
     const FftGrid &grid = c.grid;
-    const bool uphill = control_.control(c.forces.power, kFireDtMax);  // the step as a fraction of mass_dt_
+    const bool uphill = control_.control(c.forces.power, kMassDtMax);  // the step as a fraction of mass_dt_
 
     // a = M^-1 F_projected, one more r2c/c2r pair, computed in place of F (evaluate_forces()
     // recomputes F after the step); |a|^2 by Parseval in the same pass.  Points held by the wall
@@ -176,7 +176,7 @@ void FireMass::advance(StepContext &c) {
         mark();
     }
     mass_dt_ = kDtFactor / std::sqrt(lambda + c.params.adhesive_stiffness() * inv_m_);
-    const double dt = std::min(control_.dt, kFireDtMax) * mass_dt_;
+    const double dt = std::min(control_.dt, kMassDtMax) * mass_dt_;
     grid.forward(a, c.fields.work.data());
     const int64_t nxh = grid.nxh();
     const double inv_n = 1.0 / static_cast<double>(grid.real_size()), floor = floor_;
