@@ -214,6 +214,7 @@ GFMD_API int32_t gfmd_set_adhesion(gfmd_sim *s, double gamma0, double rho);
 /**
  * Time step of the damped dynamics (unit mass per unit area).  0 (the default) chooses it from
  * the Green's function: dt = 1/omega_max, omega_max^2 the largest stiffness (elastic + adhesive).
+ * GFMD_SOLVER_FIRE grows its own step up to 1.3 dt (see gfmd_set_solver()).
  */
 GFMD_API int32_t gfmd_set_timestep(gfmd_sim *s, double dt);
 
