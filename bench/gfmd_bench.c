@@ -416,17 +416,16 @@ static int sweep_table(const double *sizes, int nsizes, const double *widths, in
             }
             const int32_t solvers[SWEEP_SOLVERS] = {GFMD_SOLVER_FIRE, GFMD_SOLVER_MASS_FIRE, GFMD_SOLVER_FIRE_MASS,
                                                     GFMD_SOLVER_CG, GFMD_SOLVER_AUTO};
-            /* the default's choice at each load, on a clone of the first equilibrium (it depends on
-             * the body, the load and whether the surface is flat): where it is one solver at every
-             * load and that solver has a column, the default is that column's run, not run again */
+            /* the default's choice at each load from this equilibrium (it depends on the body, the
+             * load and whether the surface is flat, not on the solver's state, which every column
+             * restarts on its clone): asked of s itself, its surface unchanged; where it is one
+             * solver at every load and that solver has a column, the default is that column's
+             * run, not run again */
             int32_t same = -1;
             for (int l = first; l < SWEEP_LOADS; ++l) {
-                gfmd_sim *c = NULL;
                 int32_t choice = -1;
-                if ((st = gfmd_sim_clone(s, &c)) != GFMD_OK) die(s, st, "clone");
-                if ((st = gfmd_set_pressure(c, loads[l])) != GFMD_OK) die(c, st, "pressure");
-                gfmd_get_solver(c, &choice);
-                gfmd_sim_destroy(&c);
+                if ((st = gfmd_set_pressure(s, loads[l])) != GFMD_OK) die(s, st, "pressure");
+                gfmd_get_solver(s, &choice);
                 same = l == first ? choice : same == choice ? same : -2;
             }
             sweep_run runs[SWEEP_SOLVERS];
