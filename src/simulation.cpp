@@ -356,8 +356,8 @@ constexpr double kAutoContinueMassArea = 0.065;
 // higher loads"): the approach won at A/A0 = 0.008-0.03 on W = 10 (44.1 s against FIRE's
 // 45.9 s, 28.6 against 40.7, 25.4 against 31.5) and at 0.008 and 0.03 on W = 100, FIRE every
 // load from 0.05 on (W = 100: 9.1-16.3 s against 14.3-19.1 s; W = 10: 9.0-21.2 s against
-// 14.4-23.4 s): the bound 0.04 between.  The thin sheets need FIRE's many steps longer: on W = 0.125 (--from 0.05) the
-// approach won at 0.05-0.12 (39.2 s against 46.4, 29.6 against 42.3, 23.2 against 31.7), FIRE
+// 14.4-23.4 s): the bound 0.04 between.  The thin sheets need FIRE's many steps longer: on
+// W = 0.125 (--from 0.05) the approach won at 0.05-0.12 (39.2 s against 46.4, 29.6 against 42.3, 23.2 against 31.7), FIRE
 // from 0.18 on (18.3 s against 19.3, 14.8 against 20.0, 12.3 against 16.0): their bound 0.15.
 constexpr double kAutoContinueFireArea = 0.04;
 constexpr double kAutoContinueThinFireArea = 0.15;
