@@ -16,7 +16,9 @@ void Fire::advance(StepContext &c) {
     const bool uphill = control_.control(fs.power, kFireDtMax * c.dynamics.dt / kDtFactor);
     const double dt = control_.dt;
     // Mixing after the velocity update: v <- (1-a) v + a |v| F/|F|, with |v| of the updated v.
-    // |v + dt F|^2 follows from the sums of the last force evaluation.
+    // |v + dt F|^2 follows from the sums of the last force evaluation.  After an uphill step the
+    // mixing term is left out (|v| taken as 0: the body restarts with v = (1-a) dt F, not FIRE 2.0's
+    // dt F), a small extra damping the recorded trajectories keep.
     double vn2 = 0.0;
     if (!uphill) vn2 = fs.v_norm2 + 2.0 * dt * fs.power + dt * dt * fs.f_norm2;
     const double mix = (fs.f_norm2 > 0.0) ? control_.alpha * std::sqrt(std::max(vn2, 0.0) / fs.f_norm2) : 0.0;

@@ -3,7 +3,9 @@
  * in chunks (same steps, bit-identical z), a checkpoint taken between chunks resumes the same
  * trajectory in a new handle, and gfmd_restart_solver() restarts exactly as a change of the
  * landscape does (setting the same pressure again).  The reference is always a second handle of
- * the same setup run another way, so the comparison is exact: one code path against another. */
+ * the same setup run another way, so the comparison is exact: one code path against another.
+ * And FIRE's step, whose ceiling the header states, read off a free fall's positions. */
+#include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -136,11 +138,54 @@ static void restart_solver_is_a_landscape_restart(void **state) {
     assert_int_equal(gfmd_restart_solver(NULL), GFMD_ERR_NULL);
 }
 
+/* FIRE's step, observed from outside: a half-space above a flat substrate (mean position 1, no
+ * contact) pushed by sigma0 falls freely, the uniform mode having no stiffness.  With unit mass per
+ * area and the velocity along the force (FIRE's mixing then only rescales it), two steps of the
+ * same length D move the surface by dz_k = D v and dz_k+1 = D (v - sigma0 D): D follows from the
+ * positions alone, D^2 = (dz_k - dz_k+1) / sigma0.  Once grown, the step must stay at the header's
+ * ceiling, 1.3 times the time step in effect: with the automatic step and with a user's.
+ * Tolerance 1e-8 relative: the positions (~1) carry ~1e-13 of rounding (the transforms' in the
+ * forces, summed in v), dz_k - dz_k+1 = sigma0 D^2 ~ 3e-4 here, so D carries ~1e-9. */
+static void fire_step_ceiling(void **state) {
+    (void)state;
+    for (int user = 0; user < 2; ++user) {
+        gfmd_sim *s = NULL;
+        assert_int_equal(gfmd_sim_create_ex(NX, NY, NX, NY, 1, GFMD_PLANNER_ESTIMATE, &s), GFMD_OK);
+        double h[NX * NY] = {0};
+        TS_OK(s, gfmd_set_heights(s, h));
+        TS_OK(s, gfmd_set_solver(s, GFMD_SOLVER_FIRE));
+        if (user) TS_OK(s, gfmd_set_timestep(s, 0.25));
+        double dt0 = 0.0;
+        TS_OK(s, gfmd_get_dynamics(s, &dt0, NULL));
+        assert_true(user ? dt0 == 0.25 : dt0 > 0.25);  /* the automatic step: 1/omega_max ~ 0.64 here */
+        TS_OK(s, gfmd_set_mean_displacement(s, 1.0));
+        enum { STEPS = 60, PLATEAU = 20 };
+        const double sigma0 = 1.0 / ((STEPS * 1.3 * dt0) * (STEPS * 1.3 * dt0));  /* falls < 0.5 */
+        TS_OK(s, gfmd_set_pressure(s, sigma0));
+        double z[STEPS + 1];
+        TS_OK(s, gfmd_get_mean_displacement(s, &z[0]));
+        assert_true(z[0] == 1.0);
+        for (int k = 1; k <= STEPS; ++k) {
+            double area = 1.0;
+            TS_OK(s, gfmd_step(s, 1));
+            TS_OK(s, gfmd_get_mean_displacement(s, &z[k]));
+            TS_OK(s, gfmd_get_contact_area(s, &area));
+            assert_true(area == 0.0 && z[k] > 0.0 && z[k] < z[k - 1]);  /* still falling freely */
+        }
+        for (int k = STEPS - PLATEAU; k < STEPS; ++k) {
+            const double second = (z[k] - z[k - 1]) - (z[k + 1] - z[k]);
+            assert_true(fabs(sqrt(second / sigma0) / (1.3 * dt0) - 1.0) <= 1e-8);
+        }
+        gfmd_sim_destroy(&s);
+    }
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(chunked_relax_equals_one_call),
         cmocka_unit_test(chunked_steps_equal_one_call),
         cmocka_unit_test(restart_solver_is_a_landscape_restart),
+        cmocka_unit_test(fire_step_ceiling),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
