@@ -10,6 +10,8 @@
 
 #include <cmocka.h>
 
+#include <sys/resource.h>
+
 void ts_check_ok(const gfmd_sim *s, int32_t st, const char *what, const char *file, int line) {
     if (st == GFMD_OK) return;
     char msg[512] = "";
@@ -74,4 +76,24 @@ double ts_elastic_energy(int64_t nx, int64_t ny, double lx, double ly, int32_t k
 double ts_rel(double a, double b) {
     double d = fabs(b) > 1e-300 ? fabs(b) : 1e-300;
     return fabs(a - b) / d;
+}
+
+int ts_exhaust_memory(void) {
+    long vm_kb = 0;
+    FILE *f = fopen("/proc/self/status", "r");
+    char line[256];
+    while (f && fgets(line, sizeof line, f))
+        if (!strncmp(line, "VmSize:", 7)) vm_kb = atol(line + 7);
+    if (f) fclose(f);
+    struct rlimit cap = {(rlim_t)(vm_kb + 4096) * 1024, (rlim_t)(vm_kb + 4096) * 1024}; /* 4 MB more */
+    if (vm_kb <= 0 || setrlimit(RLIMIT_AS, &cap) != 0) return 1;
+    void *last = NULL;
+    for (void *p = malloc(1 << 20); p != NULL; p = malloc(1 << 20)) last = p;
+    free(last);
+    return 0;
+}
+
+int ts_memory_cap_possible(void) {
+    const char *preload = getenv("LD_PRELOAD");
+    return !TS_SANITIZED && !(preload != NULL && strstr(preload, "vgpreload") != NULL);
 }

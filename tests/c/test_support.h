@@ -24,6 +24,20 @@ double ts_qy(int64_t ky, int64_t ny, double ly);
 double ts_elastic_energy(int64_t nx, int64_t ny, double lx, double ly, int32_t kind, double width, double nu,
                          double e_star, const double *z);
 
+/* For a forked child: cap the address space just above what the process uses and fill it in 1 MB
+ * pieces, giving one back for the small allocations of a call, so that an allocation of a few MB
+ * more cannot be had.  0 on success.  Not under the sanitizers or valgrind, which need address
+ * space of their own: see ts_memory_cap_possible(). */
+int ts_exhaust_memory(void);
+/* Whether ts_exhaust_memory() may be used here (not under valgrind; the caller rules out the
+ * sanitizers at compile time, TS_SANITIZED). */
+int ts_memory_cap_possible(void);
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define TS_SANITIZED 1
+#else
+#define TS_SANITIZED 0
+#endif
+
 /* Relative difference |a - b| / max(|b|, tiny). */
 double ts_rel(double a, double b);
 
