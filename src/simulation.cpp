@@ -343,13 +343,16 @@ constexpr double kAutoContinueFirePoints = 2048.0 * 2048.0;
 constexpr double kAutoContinueCgSoftness = 1e4;
 constexpr double kAutoContinueCgThickness = 6.0;
 // Of the rest, the sheets thinner than the grid resolves (q_max w < 6) take mass-weighted FIRE
-// throughout at the lower loads, Persson's A/A0 < 0.065, once its step fit the masked dynamics
-// (commit 33d8dd2).  Measured (gfmd_bench --sweep --sizes 2048 --no-cg --verbose: the study's
-// continuing loads, one thread, two runs side by side; docs/performance.md "The thin sheets'
-// continuing loads"), mass weighting against the approach then FIRE, load by load: W = 0.125
-// 0.45-0.90x the seconds at A/A0 = 0.008-0.05, 1.11-1.26x at 0.08-0.4; W = 0.044 0.38-0.81x up
-// to 0.08 and 0.86x at 0.12, 1.06-1.18x above; the bound lies between 0.05 and 0.08.
-constexpr double kAutoContinueMassArea = 0.065;
+// throughout at the lower loads, once its step fit the masked dynamics (commit 33d8dd2), the
+// longer the thinner the sheet: while Persson's A/A0 < 0.15/(q_max w).  Measured at 2048^2
+// (gfmd_bench --sweep --sizes 2048 --verbose: the study's continuing loads, one thread, two runs
+// side by side; docs/performance.md "The thin sheets' continuing loads" and "The thin sheets'
+// bounds by thickness"), mass weighting won the loads up to 0.18 on W = 0.044 (q_max w = 0.78;
+// 20.4 s against FIRE's 26.9 at 0.18, FIRE 15.7 against 21.6 at 0.27), up to 0.05-0.08 on
+// W = 0.125 (2.2; 0.45-0.90x the approach's seconds to 0.05, 27.5 against 29.6 at 0.08, 26.9
+// against 23.2 at 0.12) and up to 0.03 on W = 0.25 (4.4; 26.0 s against 29.1 at 0.03, 21.6 against
+// FIRE's 18.1 at 0.05): bounds 0.19, 0.068, 0.034, each between the rows.
+constexpr double kAutoContinueMassThicknessArea = 0.15;
 // And the approach's 100 mass-weighted steps (two FFT pairs each) pay only while FIRE needs many
 // steps: at the higher loads plain FIRE.  Measured at 2048^2 on --full's substrate (gfmd_bench
 // --sweep --verbose, one thread, two runs side by side; docs/performance.md "Plain FIRE at the
@@ -358,7 +361,10 @@ constexpr double kAutoContinueMassArea = 0.065;
 // load from 0.05 on (W = 100: 9.1-16.3 s against 14.3-19.1 s; W = 10: 9.0-21.2 s against
 // 14.4-23.4 s): the bound 0.04 between.  The thin sheets need FIRE's many steps longer: on
 // W = 0.125 (--from 0.05) the approach won at 0.05-0.12 (39.2 s against 46.4, 29.6 against 42.3, 23.2 against 31.7), FIRE
-// from 0.18 on (18.3 s against 19.3, 14.8 against 20.0, 12.3 against 16.0): their bound 0.15.
+// from 0.18 on (18.3 s against 19.3, 14.8 against 20.0, 12.3 against 16.0): their bound 0.15, or
+// twice the mass-weighted bound if lower: on W = 0.25 (bound 0.068) the approach about even at
+// 0.05 (17.5 s against FIRE's 18.1), FIRE from 0.08 (13.5 against 15.4, 11.0 against 15.6); on
+// W = 0.044 (mass-weighted up to 0.19) FIRE next (15.7 s against the approach's 20.7 at 0.27).
 constexpr double kAutoContinueFireArea = 0.04;
 constexpr double kAutoContinueThinFireArea = 0.15;
 // With adhesion (CG minimizes the quadratic problem only), at most 100 mass-weighted FIRE steps
@@ -402,13 +408,16 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
         if (quadratic) {
             const bool big = static_cast<double>(grid_.real_size()) >= kAutoContinueFirePoints;
             if (!big || surface_flat()) return GFMD_SOLVER_CG;
-            const bool thin = shortest_wave_q(grid_) * params_.width < kAutoContinueCgThickness;
+            const double thickness = shortest_wave_q(grid_) * params_.width;
+            const bool thin = thickness < kAutoContinueCgThickness;
             const bool soft = longest_wave_softness(grid_, body_, params_.e_star) >= kAutoContinueCgSoftness;
             if (soft && !thin) return GFMD_SOLVER_CG;  // the middle widths
             const double area = persson_contact_area(params_.sigma0);
-            if (thin && area < kAutoContinueMassArea) return GFMD_SOLVER_FIRE_MASS;
-            return area < (thin ? kAutoContinueThinFireArea : kAutoContinueFireArea) ? GFMD_SOLVER_MASS_FIRE
-                                                                                      : GFMD_SOLVER_FIRE;
+            if (!thin) return area < kAutoContinueFireArea ? GFMD_SOLVER_MASS_FIRE : GFMD_SOLVER_FIRE;
+            const double mass_area = kAutoContinueMassThicknessArea / thickness;
+            if (area < mass_area) return GFMD_SOLVER_FIRE_MASS;
+            return area < std::min(2.0 * mass_area, kAutoContinueThinFireArea) ? GFMD_SOLVER_MASS_FIRE
+                                                                                : GFMD_SOLVER_FIRE;
         }
         const double area = persson_contact_area(params_.sigma0);
         const bool soft = longest_wave_softness(grid_, body_, params_.e_star) >= kAutoApproachSoftness;

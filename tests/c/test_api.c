@@ -339,8 +339,9 @@ static void automatic_choice(void **state) {
  * from a flat surface and, for one that continues from a deformed surface, CG on the middle widths
  * (f(q_min w) >= 1e4 and q_max w >= 6: w = 4 a) and, on thinner (w = 0.5 a: q_max w = 2.2) and
  * thicker layers (w = 64 a at 2048^2: f(q_min w) = 800; w = 16 a: 5.1e4 is CG's), by Persson's
- * A/A0 at the load: on the thin ones mass-weighted FIRE below 0.065, the approach then FIRE below
- * 0.15, FIRE above; on the thick ones the approach below 0.04, FIRE above (the rule of
+ * A/A0 at the load: on the thin ones mass-weighted FIRE below 0.15/(q_max w), the approach then
+ * FIRE below twice that (at most 0.15), FIRE above; on the thick ones the approach below 0.04,
+ * FIRE above (the rule of
  * gfmd_set_solver(), measured in docs/paper/full.md and docs/performance.md); at 1024^2 CG
  * either way.  The
  * same for the finest grid of a multilevel start, which starts from an interpolated surface.  A
@@ -383,22 +384,27 @@ static void automatic_choice_when_continuing(void **state) {
             TS_OK(s, gfmd_get_solver(s, &solver));
             assert_int_equal(solver, n >= 2048 ? at_2048[w] : GFMD_SOLVER_CG);
         }
-        /* by Persson's A/A0 at the load, both sides of each bound: the thin sheet (w = 0.5 a)
-         * mass-weighted FIRE below 0.065, the approach then FIRE below 0.15, FIRE above; the thick
+        /* by Persson's A/A0 at the load, both sides of each bound: a thin sheet (q_max w < 6)
+         * mass-weighted FIRE below 0.15/(q_max w), the approach then FIRE below twice that or
+         * 0.15, whichever is lower, FIRE above -- w = 0.5 a (q_max w = 2.22: 0.0675, 0.135),
+         * w = a (4.44: 0.0338, 0.0675), w = 0.2 a (0.89: 0.169, and no approach); the thick
          * layer (w = 64 a) the approach below 0.04, FIRE above */
-        const double thin_areas[4] = {0.06, 0.07, 0.14, 0.16}, thick_areas[2] = {0.035, 0.045};
-        const int32_t thin_2048[4] = {GFMD_SOLVER_FIRE_MASS, GFMD_SOLVER_MASS_FIRE, GFMD_SOLVER_MASS_FIRE,
-                                      GFMD_SOLVER_FIRE};
-        const int32_t thick_2048[2] = {GFMD_SOLVER_MASS_FIRE, GFMD_SOLVER_FIRE};
-        for (int thick = 0; thick < 2; ++thick) {
-            TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, thick ? 64.0 : 0.5));
-            for (int a = 0; a < (thick ? 2 : 4); ++a) {
-                double load = 0.0;
-                TS_OK(s, gfmd_persson_load(s, thick ? thick_areas[a] : thin_areas[a], &load));
-                TS_OK(s, gfmd_set_pressure(s, load));
-                TS_OK(s, gfmd_get_solver(s, &solver));
-                assert_int_equal(solver, n < 2048 ? GFMD_SOLVER_CG : thick ? thick_2048[a] : thin_2048[a]);
-            }
+        const struct {
+            double width, area;
+            int32_t at_2048;
+        } cases[] = {{0.5, 0.06, GFMD_SOLVER_FIRE_MASS}, {0.5, 0.07, GFMD_SOLVER_MASS_FIRE},
+                     {0.5, 0.13, GFMD_SOLVER_MASS_FIRE}, {0.5, 0.14, GFMD_SOLVER_FIRE},
+                     {1.0, 0.03, GFMD_SOLVER_FIRE_MASS}, {1.0, 0.04, GFMD_SOLVER_MASS_FIRE},
+                     {1.0, 0.065, GFMD_SOLVER_MASS_FIRE}, {1.0, 0.07, GFMD_SOLVER_FIRE},
+                     {0.2, 0.16, GFMD_SOLVER_FIRE_MASS}, {0.2, 0.18, GFMD_SOLVER_FIRE},
+                     {64.0, 0.035, GFMD_SOLVER_MASS_FIRE}, {64.0, 0.045, GFMD_SOLVER_FIRE}};
+        for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+            double load = 0.0;
+            TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, cases[c].width));
+            TS_OK(s, gfmd_persson_load(s, cases[c].area, &load));
+            TS_OK(s, gfmd_set_pressure(s, load));
+            TS_OK(s, gfmd_get_solver(s, &solver));
+            assert_int_equal(solver, n < 2048 ? GFMD_SOLVER_CG : cases[c].at_2048);
         }
         TS_OK(s, gfmd_set_pressure(s, 0.02));
         TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 4.0));
