@@ -235,8 +235,8 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * there at a load where Persson's A/A0 < 0.04, GFMD_SOLVER_FIRE above, unless the layer is of
  * middle width, f(q_min w) >= 1e4 and q_max w >= 6 with q_max = pi sqrt(2)/a (then CG), or thin,
  * q_max w < 6 (then GFMD_SOLVER_FIRE_MASS at Persson's A/A0 < 0.15/(q_max w), GFMD_SOLVER_MASS_FIRE
- * below twice that or 0.15, whichever is lower, GFMD_SOLVER_FIRE above); with adhesion GFMD_SOLVER_MASS_FIRE on a layer on a fluid foundation
- * with f(q_min w) >= 2e4 (W <= 0.5 at 256^2, W <= 4 at 2048^2) at a load where Persson's
+ * below twice that or 0.15, whichever is lower, GFMD_SOLVER_FIRE above); with adhesion
+ * GFMD_SOLVER_MASS_FIRE on a layer on a fluid foundation with f(q_min w) >= 2e4 (W <= 0.5 at 256^2, W <= 4 at 2048^2) at a load where Persson's
  * A/A0 < 0.1, and GFMD_SOLVER_FIRE_MASS there instead if the layer is thin, q_max w < 6, and
  * Persson's A/A0 < 0.02, or thinner, q_max w < 4, at any such load; GFMD_SOLVER_FIRE otherwise; re-chosen whenever the body, the substrate, the
  * adhesion, the load or the load control changes, at gfmd_reset() and on each grid of
