@@ -12,8 +12,6 @@
 
 #include <cmocka.h>
 
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include "gfmd.h"
 #include "test_support.h"
@@ -451,26 +449,22 @@ static void automatic_choice_when_continuing(void **state) {
 /* CG's 16 bytes per point that cannot be had: GFMD_ERR_NOMEM and the solver unchanged.  In a child
  * process whose address space is capped just above what it uses and then filled (not under the
  * sanitizers or valgrind, which need address space of their own). */
+static int cg_without_memory_child(void) {
+    gfmd_sim *s = NULL;
+    if (gfmd_sim_create_ex(1024, 1024, 1024.0, 1024.0, 1, GFMD_PLANNER_ESTIMATE, &s) != GFMD_OK) return 3;
+    int32_t before = -1, after = -1;
+    gfmd_get_solver(s, &before);
+    if (ts_exhaust_memory() != 0) return 4;
+    const int32_t st = gfmd_set_solver(s, GFMD_SOLVER_CG); /* needs 16 MB */
+    gfmd_get_solver(s, &after);
+    if (st != GFMD_ERR_NOMEM || after != before) fprintf(stderr, "set_solver(CG) under the cap: status %d, solver %d -> %d\n", (int)st, (int)before, (int)after);
+    return st == GFMD_ERR_NOMEM && after == before ? 0 : 1;
+}
+
 static void cg_without_memory(void **state) {
     (void)state;
     if (!ts_memory_cap_possible()) skip();
-    const pid_t pid = fork();
-    assert_true(pid >= 0);
-    if (pid == 0) {
-        gfmd_sim *s = NULL;
-        if (gfmd_sim_create_ex(1024, 1024, 1024.0, 1024.0, 1, GFMD_PLANNER_ESTIMATE, &s) != GFMD_OK) _exit(3);
-        int32_t before = -1, after = -1;
-        gfmd_get_solver(s, &before);
-        if (ts_exhaust_memory() != 0) _exit(4);
-        const int32_t st = gfmd_set_solver(s, GFMD_SOLVER_CG); /* needs 16 MB */
-        gfmd_get_solver(s, &after);
-        if (st != GFMD_ERR_NOMEM || after != before) fprintf(stderr, "set_solver(CG) under the cap: status %d, solver %d -> %d\n", (int)st, (int)before, (int)after);
-        _exit(st == GFMD_ERR_NOMEM && after == before ? 0 : 1);
-    }
-    int status = 0;
-    assert_int_equal(waitpid(pid, &status, 0), pid);
-    assert_true(WIFEXITED(status));
-    assert_int_equal(WEXITSTATUS(status), 0);
+    ts_run_in_child(cg_without_memory_child);
 }
 
 static void not_converged_keeps_progress(void **state) {

@@ -11,6 +11,8 @@
 #include <cmocka.h>
 
 #include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 void ts_check_ok(const gfmd_sim *s, int32_t st, const char *what, const char *file, int line) {
     if (st == GFMD_OK) return;
@@ -96,4 +98,14 @@ int ts_exhaust_memory(void) {
 int ts_memory_cap_possible(void) {
     const char *preload = getenv("LD_PRELOAD");
     return !TS_SANITIZED && !(preload != NULL && strstr(preload, "vgpreload") != NULL);
+}
+
+void ts_run_in_child(int (*body)(void)) {
+    const pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) _exit(body());
+    int status = 0;
+    assert_int_equal(waitpid(pid, &status, 0), pid);
+    assert_true(WIFEXITED(status));
+    assert_int_equal(WEXITSTATUS(status), 0);
 }

@@ -29,6 +29,9 @@ double ts_elastic_energy(int64_t nx, int64_t ny, double lx, double ly, int32_t k
  * more cannot be had.  0 on success.  Not under the sanitizers or valgrind, which need address
  * space of their own: see ts_memory_cap_possible(). */
 int ts_exhaust_memory(void);
+/* Run body() in a forked child process and fail the current test unless it exits with 0 (for
+ * tests that must change the process, e.g. cap its memory). */
+void ts_run_in_child(int (*body)(void));
 /* Whether ts_exhaust_memory() may be used here (not under valgrind; the caller rules out the
  * sanitizers at compile time, TS_SANITIZED). */
 int ts_memory_cap_possible(void);

@@ -12,8 +12,6 @@
 
 #include <cmocka.h>
 
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include "gfmd.h"
 #include "test_support.h"
@@ -106,33 +104,29 @@ static void variance_follows_substrate_and_body(void **state) {
  * fails with GFMD_ERR_NOMEM; so do Persson's area and load.  A new load and a failed change keep
  * V (that a change of the substrate or the body computes it again: the test above).  Natively
  * only (ts_memory_cap_possible). */
+static int variance_kept_child(void) {
+    gfmd_sim *s[2] = {NULL, NULL};
+    for (int k = 0; k < 2; ++k)
+        if (gfmd_sim_create_ex(1024, 1024, 1024.0, 1024.0, 1, GFMD_PLANNER_ESTIMATE, &s[k]) != GFMD_OK ||
+            gfmd_generate_selfaffine(s[k], 0.8, 128.0, 4.0, 1.0, 7, GFMD_DIST_UNIFORM) != GFMD_OK)
+            return 3;
+    double v = NAN, again = NAN, twin = NAN, area = NAN, load = NAN;
+    if (gfmd_persson_variance(s[0], &v) != GFMD_OK || gfmd_set_pressure(s[0], 0.01) != GFMD_OK) return 4;
+    if (gfmd_set_green(s[0], 99, 1.0) == GFMD_OK) return 5; /* a failed change */
+    if (ts_exhaust_memory() != 0) return 6;
+    int bad = 0;
+    bad |= gfmd_persson_variance(s[0], &again) != GFMD_OK || again != v;
+    bad |= gfmd_persson_contact_area(s[0], 0.02, &area) != GFMD_OK || gfmd_persson_load(s[0], 0.1, &load) != GFMD_OK;
+    bad |= (gfmd_persson_variance(s[1], &twin) != GFMD_ERR_NOMEM) << 1;
+    bad |= (gfmd_persson_contact_area(s[1], 0.02, &area) != GFMD_ERR_NOMEM) << 1;
+    if (bad) fprintf(stderr, "under the cap: failures %d\n", bad);
+    return bad ? 1 : 0;
+}
+
 static void variance_kept_without_memory(void **state) {
     (void)state;
     if (!ts_memory_cap_possible()) skip();
-    const pid_t pid = fork();
-    assert_true(pid >= 0);
-    if (pid == 0) {
-        gfmd_sim *s[2] = {NULL, NULL};
-        for (int k = 0; k < 2; ++k)
-            if (gfmd_sim_create_ex(1024, 1024, 1024.0, 1024.0, 1, GFMD_PLANNER_ESTIMATE, &s[k]) != GFMD_OK ||
-                gfmd_generate_selfaffine(s[k], 0.8, 128.0, 4.0, 1.0, 7, GFMD_DIST_UNIFORM) != GFMD_OK)
-                _exit(3);
-        double v = NAN, again = NAN, twin = NAN, area = NAN, load = NAN;
-        if (gfmd_persson_variance(s[0], &v) != GFMD_OK || gfmd_set_pressure(s[0], 0.01) != GFMD_OK) _exit(4);
-        if (gfmd_set_green(s[0], 99, 1.0) == GFMD_OK) _exit(5); /* a failed change */
-        if (ts_exhaust_memory() != 0) _exit(6);
-        int bad = 0;
-        bad |= gfmd_persson_variance(s[0], &again) != GFMD_OK || again != v;
-        bad |= gfmd_persson_contact_area(s[0], 0.02, &area) != GFMD_OK || gfmd_persson_load(s[0], 0.1, &load) != GFMD_OK;
-        bad |= (gfmd_persson_variance(s[1], &twin) != GFMD_ERR_NOMEM) << 1;
-        bad |= (gfmd_persson_contact_area(s[1], 0.02, &area) != GFMD_ERR_NOMEM) << 1;
-        if (bad) fprintf(stderr, "under the cap: failures %d\n", bad);
-        _exit(bad ? 1 : 0);
-    }
-    int status = 0;
-    assert_int_equal(waitpid(pid, &status, 0), pid);
-    assert_true(WIFEXITED(status));
-    assert_int_equal(WEXITSTATUS(status), 0);
+    ts_run_in_child(variance_kept_child);
 }
 
 static void persson_load_inverts_area(void **state) {
