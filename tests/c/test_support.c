@@ -96,8 +96,12 @@ int ts_exhaust_memory(void) {
 }
 
 int ts_memory_cap_possible(void) {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+    return 0; /* this file is built with the tests' sanitizer flags */
+#else
     const char *preload = getenv("LD_PRELOAD");
-    return !TS_SANITIZED && !(preload != NULL && strstr(preload, "vgpreload") != NULL);
+    return !(preload != NULL && strstr(preload, "vgpreload") != NULL);
+#endif
 }
 
 void ts_run_in_child(int (*body)(void)) {

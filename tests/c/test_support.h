@@ -32,14 +32,8 @@ int ts_exhaust_memory(void);
 /* Run body() in a forked child process and fail the current test unless it exits with 0 (for
  * tests that must change the process, e.g. cap its memory). */
 void ts_run_in_child(int (*body)(void));
-/* Whether ts_exhaust_memory() may be used here (not under valgrind; the caller rules out the
- * sanitizers at compile time, TS_SANITIZED). */
+/* Whether ts_exhaust_memory() may be used here: not in a sanitizer build, not under valgrind. */
 int ts_memory_cap_possible(void);
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define TS_SANITIZED 1
-#else
-#define TS_SANITIZED 0
-#endif
 
 /* Relative difference |a - b| / max(|b|, tiny). */
 double ts_rel(double a, double b);

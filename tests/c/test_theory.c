@@ -12,7 +12,6 @@
 
 #include <cmocka.h>
 
-
 #include "gfmd.h"
 #include "test_support.h"
 
@@ -92,16 +91,11 @@ static void variance_follows_substrate_and_body(void **state) {
     gfmd_sim_destroy(&s);
 }
 
-/* The load for a Persson area: on the half-space V = (E* g/2)^2, so the load for A/A0 = 1/2 is
- * sqrt(2 V) erfinv(1/2), erfinv(1/2) = 0.476936276204469873381418353643 (tabulated; 1e-12 for V's
- * own rounding, above).  Everywhere else the inverse is checked against erf and erfc themselves
- * with the library's V: near 1 the relative error of 1 - A/A0 is about 2 x^2 (x ~ 5) times the
- * rounding of the load, < 1e-13, where erf alone would keep only 1 - A/A0's absolute 1e-16. */
 /* The header's promise that V, once computed, is kept with the substrate and the body (the
  * automatic solver choice asks for it at every change of load): in a child process whose address
  * space is then exhausted, a second call on a handle that has computed V returns it bit for bit,
  * while the first call on a twin handle that has not, needing its 8 MB half-spectrum (1024^2),
- * fails with GFMD_ERR_NOMEM; so do Persson's area and load.  A new load and a failed change keep
+ * fails with GFMD_ERR_NOMEM, as do its Persson area and load.  A new load and a failed change keep
  * V (that a change of the substrate or the body computes it again: the test above).  Natively
  * only (ts_memory_cap_possible). */
 static int variance_kept_child(void) {
@@ -119,6 +113,7 @@ static int variance_kept_child(void) {
     bad |= gfmd_persson_contact_area(s[0], 0.02, &area) != GFMD_OK || gfmd_persson_load(s[0], 0.1, &load) != GFMD_OK;
     bad |= (gfmd_persson_variance(s[1], &twin) != GFMD_ERR_NOMEM) << 1;
     bad |= (gfmd_persson_contact_area(s[1], 0.02, &area) != GFMD_ERR_NOMEM) << 1;
+    bad |= (gfmd_persson_load(s[1], 0.1, &load) != GFMD_ERR_NOMEM) << 1;
     if (bad) fprintf(stderr, "under the cap: failures %d\n", bad);
     return bad ? 1 : 0;
 }
@@ -129,6 +124,11 @@ static void variance_kept_without_memory(void **state) {
     ts_run_in_child(variance_kept_child);
 }
 
+/* The load for a Persson area: on the half-space V = (E* g/2)^2, so the load for A/A0 = 1/2 is
+ * sqrt(2 V) erfinv(1/2), erfinv(1/2) = 0.476936276204469873381418353643 (tabulated; 1e-12 for V's
+ * own rounding, above).  Everywhere else the inverse is checked against erf and erfc themselves
+ * with the library's V: near 1 the relative error of 1 - A/A0 is about 2 x^2 (x ~ 5) times the
+ * rounding of the load, < 1e-13, where erf alone would keep only 1 - A/A0's absolute 1e-16. */
 static void persson_load_inverts_area(void **state) {
     (void)state;
     gfmd_sim *s = ts_create(96, 64, 96.0, 64.0);
