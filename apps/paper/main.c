@@ -252,10 +252,12 @@ int main(int argc, char **argv) {
         if (load_body(&o, &bodies[k])) ++resumed, resumed_s += sweep_seconds(&bodies[k].out);
     run_bodies(surface, u_max, &o, bodies, n);
     double first = 0.0;  /* the sweeps' first loads, each from a flat start or from coarser grids */
+    double own = 0.0;    /* the bodies' own seconds (the "this body:" lines; read bodies' too) */
     long long steps = 0; /* every relaxation step of every sweep */
     static sweep sw[MAX_BODIES], ad[MAX_BODIES];
     for (int k = 0; k < n; ++k) {
         first += bodies[k].out.p[0].seconds;
+        own += sweep_seconds(&bodies[k].out);
         steps += sweep_steps(&bodies[k].out);
         if (k < o.n_widths) sw[k] = bodies[k].out;
         else ad[k - o.n_widths] = bodies[k].out;
@@ -286,8 +288,8 @@ int main(int argc, char **argv) {
     write_fits(&o, &f);
     report_fits(&o, &f);
     /* with --jobs J > 1 the bodies' own seconds overlap: their sums exceed the wall time */
-    printf("total %.1f s, %lld steps (first loads %.2f s%s); tables in %s\n", now() - t_start, steps, first,
-           o.jobs > 1 ? " summed over the bodies" : "", o.dir);
+    printf("total %.1f s, %lld steps (bodies %.2f s, first loads %.2f s%s); tables in %s\n", now() - t_start, steps,
+           own, first, o.jobs > 1 ? ", summed over the bodies" : "", o.dir);
     if (resumed > 0) /* the total is this run's wall time; the steps and first loads are the whole study's */
         printf("resumed: %d of %d bodies read from %s, relaxed by earlier runs in %.1f s of their own\n", resumed, n,
                o.dir, resumed_s);

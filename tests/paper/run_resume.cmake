@@ -29,6 +29,7 @@ function(body_block log title var)
 endfunction()
 
 run_study(whole --jobs 2)
+expect_bodies_sum("${log_whole}" "--jobs 2")
 foreach(b IN LISTS bodies)
   if(NOT EXISTS ${OUT}/whole/${b}.sweep)
     message(FATAL_ERROR "the whole run saved no ${b}.sweep")
@@ -67,6 +68,7 @@ foreach(jobs 1 2)
     endif()
   endforeach()
   expect_same_tables(${OUT}/whole ${OUT}/${name} "--resume --jobs ${jobs}")
+  expect_bodies_sum("${log_${name}}" "--resume --jobs ${jobs}") # the read bodies' seconds counted too
   message("--resume --jobs ${jobs}: 3 bodies read, 2 relaxed, the whole run's blocks and tables")
 endforeach()
 
