@@ -29,7 +29,8 @@ function(body_block log title var)
 endfunction()
 
 run_study(whole --jobs 2)
-expect_bodies_sum("${log_whole}" "--jobs 2")
+list(LENGTH bodies n_bodies)
+expect_bodies_sum("${log_whole}" ${n_bodies} "--jobs 2")
 foreach(b IN LISTS bodies)
   if(NOT EXISTS ${OUT}/whole/${b}.sweep)
     message(FATAL_ERROR "the whole run saved no ${b}.sweep")
@@ -68,7 +69,7 @@ foreach(jobs 1 2)
     endif()
   endforeach()
   expect_same_tables(${OUT}/whole ${OUT}/${name} "--resume --jobs ${jobs}")
-  expect_bodies_sum("${log_${name}}" "--resume --jobs ${jobs}") # the read bodies' seconds counted too
+  expect_bodies_sum("${log_${name}}" ${n_bodies} "--resume --jobs ${jobs}") # the read bodies' seconds counted too
   message("--resume --jobs ${jobs}: 3 bodies read, 2 relaxed, the whole run's blocks and tables")
 endforeach()
 

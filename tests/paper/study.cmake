@@ -34,15 +34,16 @@ function(expect_same_tables a b what)
   endforeach()
 endfunction()
 
-# expect_bodies_sum(LOG WHAT): the total line's "bodies X s" is the sum of the printed "this body:"
-# lines' seconds.  Both are printed to 0.01 s, each rounded by at most 0.005 s: with B bodies the
-# printed sum and the sum of the printed figures differ by at most (B + 1) x 0.005 s; compared in
-# hundredths (CMake's integer arithmetic), at most (B + 1) / 2 + 1 of them apart.
-function(expect_bodies_sum log what)
+# expect_bodies_sum(LOG BODIES WHAT): the run printed BODIES "this body:" lines, and its total
+# line's "bodies X s" is the sum of their seconds.  Both are printed to 0.01 s, each rounded by at
+# most 0.005 s: with B bodies the printed sum and the sum of the printed figures differ by at most
+# (B + 1) x 0.005 s; compared in hundredths (CMake's integer arithmetic), at most (B + 1) / 2 + 1
+# of them apart.
+function(expect_bodies_sum log bodies what)
   string(REGEX MATCHALL "this body: [0-9]+ steps, [0-9]+\\.[0-9][0-9] s" lines "${log}")
   list(LENGTH lines n)
-  if(n EQUAL 0 OR NOT "${log}" MATCHES "\ntotal [0-9.]+ s, [0-9]+ steps \\(bodies ([0-9]+)\\.([0-9][0-9]) s, first loads ")
-    message(FATAL_ERROR "${what}: no bodies' blocks or no bodies' seconds in the total line:\n${log}")
+  if(NOT n EQUAL bodies OR NOT "${log}" MATCHES "\ntotal [0-9.]+ s, [0-9]+ steps \\(bodies ([0-9]+)\\.([0-9][0-9]) s, first loads ")
+    message(FATAL_ERROR "${what}: ${n} bodies' blocks, not ${bodies}, or no bodies' seconds in the total line:\n${log}")
   endif()
   math(EXPR printed "${CMAKE_MATCH_1} * 100 + 1${CMAKE_MATCH_2} - 100")
   set(sum 0)
