@@ -12,7 +12,6 @@
 
 #include <cmocka.h>
 
-
 #include "gfmd.h"
 #include "test_support.h"
 
@@ -385,8 +384,11 @@ static void automatic_choice_when_continuing(void **state) {
         /* by Persson's A/A0 at the load, both sides of each bound: a thin sheet (q_max w < 6)
          * mass-weighted FIRE below 0.15/(q_max w), the approach then FIRE below twice that or
          * 0.15, whichever is lower, FIRE above -- w = 0.5 a (q_max w = 2.22: 0.0675, 0.135),
-         * w = a (4.44: 0.0338, 0.0675), w = 0.2 a (0.89: 0.169, and no approach); the thick
-         * layer (w = 64 a) the approach below 0.04, FIRE above */
+         * w = a (4.44: 0.0338, 0.0675), w = 0.2 a (0.89: 0.169, and no approach); the study's
+         * other thin sheets (w = 4 W a, docs/performance.md quotes these bounds): W = 0.177, w =
+         * 0.708 a (3.15: 0.0477, 0.0954), W = 0.088, w = 0.352 a (1.56: 0.0959, 0.15), W = 0.0625,
+         * w = 0.25 a (1.11: 0.135, 0.15), W = 0.044, w = 0.176 a (0.78: 0.192, no approach); the
+         * thick layer (w = 64 a) the approach below 0.04, FIRE above */
         const struct {
             double width, area;
             int32_t at_2048;
@@ -395,6 +397,13 @@ static void automatic_choice_when_continuing(void **state) {
                      {1.0, 0.03, GFMD_SOLVER_FIRE_MASS}, {1.0, 0.04, GFMD_SOLVER_MASS_FIRE},
                      {1.0, 0.065, GFMD_SOLVER_MASS_FIRE}, {1.0, 0.07, GFMD_SOLVER_FIRE},
                      {0.2, 0.16, GFMD_SOLVER_FIRE_MASS}, {0.2, 0.18, GFMD_SOLVER_FIRE},
+                     {0.708, 0.046, GFMD_SOLVER_FIRE_MASS}, {0.708, 0.049, GFMD_SOLVER_MASS_FIRE},
+                     {0.708, 0.094, GFMD_SOLVER_MASS_FIRE}, {0.708, 0.097, GFMD_SOLVER_FIRE},
+                     {0.352, 0.094, GFMD_SOLVER_FIRE_MASS}, {0.352, 0.098, GFMD_SOLVER_MASS_FIRE},
+                     {0.352, 0.148, GFMD_SOLVER_MASS_FIRE}, {0.352, 0.152, GFMD_SOLVER_FIRE},
+                     {0.25, 0.133, GFMD_SOLVER_FIRE_MASS}, {0.25, 0.137, GFMD_SOLVER_MASS_FIRE},
+                     {0.25, 0.148, GFMD_SOLVER_MASS_FIRE}, {0.25, 0.152, GFMD_SOLVER_FIRE},
+                     {0.176, 0.19, GFMD_SOLVER_FIRE_MASS}, {0.176, 0.194, GFMD_SOLVER_FIRE},
                      {64.0, 0.035, GFMD_SOLVER_MASS_FIRE}, {64.0, 0.045, GFMD_SOLVER_FIRE}};
         for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
             double load = 0.0;
