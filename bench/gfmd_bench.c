@@ -33,7 +33,8 @@
  *
  * Problem: self-affine, H = 0.8, lambda_s = 4a, lambda_r = n a/8, rms gradient 1,
  * E* = 1, sigma0 = 0.05 (--sigma0); W = w/lambda_s, 0 = half-space.  The "fft" column is the
- * bare r2c + c2r pairs one step of the solver that ran needs (two for mass-weighted FIRE, 7/3 for
+ * bare r2c + c2r pairs (timed just before and just after the row's run, the two averaged) one step
+ * of the solver that ran needs (two for mass-weighted FIRE, 7/3 for
  * CG on the pressure (two, and the convergence test's every third iteration), two and a half for
  * the preconditioned CG on the surface; the approach then FIRE: two for its first 100 steps, then one); "solver" is that solver
  * (with the default --solver auto, the library's own choice), and "other" the time to 0.1 % of the
@@ -61,32 +62,53 @@
 #include "cg_reference.h"
 
 /* The bare transforms one step needs: one r2c and one c2r of n x n, same threads and planner,
- * on the same kind of memory as the library's grids. */
-static double fft_pair_seconds(int n, int threads) {
-    double *r = cg_grid_alloc(sizeof(double) * (size_t)n * (size_t)n);
-    fftw_complex *c = cg_grid_alloc(sizeof(fftw_complex) * (size_t)n * (size_t)(n / 2 + 1));
-    if (!r || !c) {
+ * on the same kind of memory as the library's grids.  Timed around each row's run (pair_run
+ * before and after it, each for at least a second): the machine's speed drifts, and a pair timed
+ * once per size, in a fraction of a second, moved the printed ratio by up to a fifth between
+ * runs of the same steps. */
+typedef struct {
+    double *r;
+    fftw_complex *c;
+    fftw_plan f, b;
+} pair_timer;
+
+static void pair_init(pair_timer *p, int n, int threads) {
+    p->r = cg_grid_alloc(sizeof(double) * (size_t)n * (size_t)n);
+    p->c = cg_grid_alloc(sizeof(fftw_complex) * (size_t)n * (size_t)(n / 2 + 1));
+    if (!p->r || !p->c) {
         fprintf(stderr, "gfmd_bench: no memory for the bare transforms of %d^2\n", n);
         exit(1);
     }
     fftw_init_threads();
     fftw_plan_with_nthreads(threads);
-    fftw_plan f = fftw_plan_dft_r2c_2d(n, n, r, c, FFTW_MEASURE);
-    fftw_plan b = fftw_plan_dft_c2r_2d(n, n, c, r, FFTW_MEASURE);
+    p->f = fftw_plan_dft_r2c_2d(n, n, p->r, p->c, FFTW_MEASURE);
+    p->b = fftw_plan_dft_c2r_2d(n, n, p->c, p->r, FFTW_MEASURE);
     fftw_plan_with_nthreads(1);
-    for (size_t i = 0; i < (size_t)n * (size_t)n; ++i) r[i] = sin(0.001 * (double)i);
-    int reps = n >= 2048 ? 10 : n >= 1024 ? 30 : 100;
-    double t0 = now();
-    for (int k = 0; k < reps; ++k) {
-        fftw_execute(f);
-        fftw_execute(b);
+    for (size_t i = 0; i < (size_t)n * (size_t)n; ++i) p->r[i] = sin(0.001 * (double)i);
+}
+
+/* seconds per pair, over at least 1 s and 3 pairs (c2r leaves r scaled by n^2: rescaled every
+ * pair, outside the clock, so that the data stay the same) */
+static double pair_run(pair_timer *p, int n) {
+    const double scale = 1.0 / ((double)n * (double)n);
+    double busy = 0.0;
+    int pairs = 0;
+    while (busy < 1.0 || pairs < 3) {
+        const double t0 = now();
+        fftw_execute(p->f);
+        fftw_execute(p->b);
+        busy += now() - t0;
+        ++pairs;
+        for (size_t i = 0; i < (size_t)n * (size_t)n; ++i) p->r[i] *= scale;
     }
-    double t = (now() - t0) / reps;
-    fftw_destroy_plan(f);
-    fftw_destroy_plan(b);
-    free(r);
-    free(c);
-    return t;
+    return busy / pairs;
+}
+
+static void pair_free(pair_timer *p) {
+    fftw_destroy_plan(p->f);
+    fftw_destroy_plan(p->b);
+    free(p->r);
+    free(p->c);
 }
 
 static int parse_list(const char *s, double *out, int max) {
@@ -690,7 +712,9 @@ int main(int argc, char **argv) {
            "", "GFMD to 0.1 %", "to 0.1 %", "reference CG to 0.1 %", "", "memory");
     for (int a = 0; a < nsizes; ++a) {
         const int n = (int)sizes[a];
-        const double l = n, t_pair = fft_pair_seconds(n, threads);
+        const double l = n;
+        pair_timer pairs;
+        pair_init(&pairs, n, threads);
         for (int b = 0; b < nwidths; ++b) {
             const double W = widths[b];
             gfmd_sim *s = NULL;
@@ -712,7 +736,9 @@ int main(int argc, char **argv) {
             double area_conv = 0;
             if ((st = gfmd_relax(s, 1e-10, 10000000, &more)) != GFMD_OK) die(s, st, "relax to 1e-10");
             gfmd_get_contact_area(s, &area_conv);
+            const double pair_before = pair_run(&pairs, n);
             const gfmd_run g = timed_relax(s, solver, sigma0, area_conv);
+            const double t_pair = 0.5 * (pair_before + pair_run(&pairs, n));
             const double peak_mb = (read_status_kb("VmHWM:") - base_kb) / 1024.0;
             const int64_t steps = g.steps, steps_acc = g.steps_acc;
             const double t_gfmd = g.seconds, t_acc = g.seconds_acc;
@@ -762,6 +788,7 @@ int main(int argc, char **argv) {
                    peak_mb * 1048576.0 / ((double)n * (double)n));
             fflush(stdout);
         }
+        pair_free(&pairs);
     }
     return 0;
 }
