@@ -14,8 +14,10 @@
  *   gfmd_bench --multilevel [--sizes 256] [--widths 0.0625,0.125] [--sigma0 S] [--solver fire|mass]
  *                                gfmd_relax_multilevel with 1-4 levels from flat, to 1e-10
  *   gfmd_bench --first-load [--sizes 512,1024,2048] [--widths 0.0625,0.25] [--threads N] [--levels L] [--tol T]
- *                                a thin sheet's first load from flat, with and without adhesion,
- *                                by the default solver, mass-weighted FIRE and the multilevel start
+ *              [--adhesion] [--levers fire,mass,multilevel,default]
+ *                                a thin sheet's first load from flat, with and without adhesion
+ *                                (--adhesion: with only), by FIRE, mass-weighted FIRE, the
+ *                                multilevel start and the default solver (--levers: those only)
  *   gfmd_bench --sweep [--sizes 2048] [--widths 0.25,1,100] [--threads N]
  *        [--adhesion] [--no-cg] [--verbose] [--from A]
  *                                the study's continuing loads on each body by FIRE, the approach
@@ -499,9 +501,29 @@ static int sweep_table(const double *sizes, int nsizes, const double *widths, in
  * (counted to the step, as in the main table: timed_relax_to) until A/A0 stays within 0.1 % of the
  * run's final value (the multilevel start: not counted, "-"); with --tol T every lever relaxes to
  * T instead and A/A0 is printed to 8 digits.  Mass-weighted FIRE is not run
- * with adhesion beyond 20 000 steps. */
+ * with adhesion beyond 20 000 steps.  adhesive_only: the rows with adhesion only; levers: a bit
+ * per lever to run (parse_levers), so that a 2048^2 comparison need not run all eight rows. */
+static const char *const lever_names[4] = {"fire", "mass", "multilevel", "default"};
+
+/* --levers LIST: a bit per lever of first_load_table, in lever_names' order; -1 for a name not
+ * there or an empty list */
+static int parse_levers(const char *list) {
+    int mask = 0;
+    while (*list) {
+        const char *end = strchr(list, ',');
+        const size_t len = end ? (size_t)(end - list) : strlen(list);
+        int bit = -1;
+        for (int k = 0; k < 4; ++k)
+            if (strlen(lever_names[k]) == len && !strncmp(list, lever_names[k], len)) bit = k;
+        if (bit < 0) return -1;
+        mask |= 1 << bit;
+        list += len + (end ? 1 : 0);
+    }
+    return mask > 0 ? mask : -1;
+}
+
 static int first_load_table(const double *sizes, int nsizes, const double *widths, int nwidths, int threads,
-                            int levels, double tol) {
+                            int levels, double tol, int adhesive_only, int levers) {
     const int digits = tol > 0.0 ? 8 : 5;
     if (!(tol > 0.0)) tol = GFMD_DEFAULT_TOL;
     printf("gfmd %s: a thin sheet's first load from flat (Persson A/A0 = 0.004), fluid foundation (w = 4 W a), "
@@ -511,8 +533,9 @@ static int first_load_table(const double *sizes, int nsizes, const double *width
            "s");
     for (int a = 0; a < nsizes; ++a)
         for (int b = 0; b < nwidths; ++b)
-            for (int adh = 0; adh < 2; ++adh)
+            for (int adh = adhesive_only; adh < 2; ++adh)
                 for (int lever = 0; lever < 4; ++lever) {
+                    if (!(levers & (1 << lever))) continue;
                     const int n = (int)sizes[a];
                     const int32_t solver = lever == 0 ? GFMD_SOLVER_FIRE : lever == 1 ? GFMD_SOLVER_FIRE_MASS : GFMD_SOLVER_AUTO;
                     gfmd_sim *s = bench_body(n, widths[b], 0.01, solver);
@@ -629,7 +652,7 @@ int main(int argc, char **argv) {
         first_load = 0, sweep = 0, verbose = 0, from_given = 0, threads_given = 0, sizes_given = 0, widths_given = 0, sigma0_given = 0, adhesion = 0;
     double loads[8];
     double cg_seconds = 120.0, sigma0 = 0.05, bonded_nu = NAN, first_tol = 0.0, sweep_from = 0.0;
-    int levels = 3;
+    int levels = 3, levers = 15;
     int32_t solver = GFMD_SOLVER_AUTO;
     for (int i = 1; i < argc; ++i) {
         if (!strcmp(argv[i], "--sizes") && i + 1 < argc) nsizes = parse_list(argv[++i], sizes, 7), sizes_given = 1;
@@ -639,6 +662,7 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--verbose")) verbose = 1;
         else if (!strcmp(argv[i], "--from") && i + 1 < argc) sweep_from = atof(argv[++i]), from_given = 1;
         else if (!strcmp(argv[i], "--levels") && i + 1 < argc) levels = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--levers") && i + 1 < argc) levers = parse_levers(argv[++i]);
         else if (!strcmp(argv[i], "--tol") && i + 1 < argc) first_tol = atof(argv[++i]), first_tol = first_tol > 0.0 ? first_tol : -1.0;
         else if (!strcmp(argv[i], "--widths") && i + 1 < argc) nwidths = parse_list(argv[++i], widths, 8), widths_given = 1;
         else if (!strcmp(argv[i], "--threads") && i + 1 < argc) threads = atoi(argv[++i]), threads_given = 1;
@@ -658,10 +682,10 @@ int main(int argc, char **argv) {
                    : !strcmp(argv[i], "auto") ? GFMD_SOLVER_AUTO : !strcmp(argv[i], "mass+fire") ? GFMD_SOLVER_MASS_FIRE : -1;
         } else
             solver = -1;
-        if (solver < 0 || !(sigma0 > 0.0) || levels < 1 || first_tol < 0.0) {
+        if (solver < 0 || !(sigma0 > 0.0) || levels < 1 || first_tol < 0.0 || levers < 0) {
             fprintf(stderr, "usage: %s [--sizes 256,512,...] [--big] [--widths 0,0.5,1,4] [--threads N] "
                             "[--cg-seconds S] [--no-cg] [--no-alt] [--sigma0 S] [--solver auto|fire|mass|mass+fire|verlet|cg] "
-                            "[--bonded NU] [--adhesion] | --contention | --sweep [--verbose] [--from A] | --loads L,.. | --multilevel | --first-load [--levels L] [--tol T] | --big\n", argv[0]);
+                            "[--bonded NU] [--adhesion] | --contention | --sweep [--verbose] [--from A] | --loads L,.. | --multilevel | --first-load [--levels L] [--tol T] [--levers fire,mass,multilevel,default] | --big\n", argv[0]);
             return 2;
         }
     }
@@ -675,7 +699,7 @@ int main(int argc, char **argv) {
     if (first_load) {
         const double thin[2] = {0.0625, 0.25}, first_sizes[3] = {512, 1024, 2048};
         return first_load_table(sizes_given ? sizes : first_sizes, sizes_given ? nsizes : 3, widths_given ? widths : thin,
-                                widths_given ? nwidths : 2, threads < 1 ? 1 : threads, levels, first_tol);
+                                widths_given ? nwidths : 2, threads < 1 ? 1 : threads, levels, first_tol, adhesion, levers);
     }
     if (from_given && !(sweep_from > 0.0 && sweep_from <= 0.4)) {
         fprintf(stderr, "gfmd_bench: --from takes a Persson area in (0, 0.4]\n");
