@@ -69,12 +69,14 @@
  * once per size, in a fraction of a second, moved the printed ratio by up to a fifth between
  * runs of the same steps. */
 typedef struct {
+    int n;
     double *r;
     fftw_complex *c;
     fftw_plan f, b;
 } pair_timer;
 
 static void pair_init(pair_timer *p, int n, int threads) {
+    p->n = n;
     p->r = cg_grid_alloc(sizeof(double) * (size_t)n * (size_t)n);
     p->c = cg_grid_alloc(sizeof(fftw_complex) * (size_t)n * (size_t)(n / 2 + 1));
     if (!p->r || !p->c) {
@@ -91,8 +93,9 @@ static void pair_init(pair_timer *p, int n, int threads) {
 
 /* seconds per pair, over at least 1 s and 3 pairs (c2r leaves r scaled by n^2: rescaled every
  * pair, outside the clock, so that the data stay the same) */
-static double pair_run(pair_timer *p, int n) {
-    const double scale = 1.0 / ((double)n * (double)n);
+static double pair_run(pair_timer *p) {
+    const size_t points = (size_t)p->n * (size_t)p->n;
+    const double scale = 1.0 / (double)points;
     double busy = 0.0;
     int pairs = 0;
     while (busy < 1.0 || pairs < 3) {
@@ -101,7 +104,7 @@ static double pair_run(pair_timer *p, int n) {
         fftw_execute(p->b);
         busy += now() - t0;
         ++pairs;
-        for (size_t i = 0; i < (size_t)n * (size_t)n; ++i) p->r[i] *= scale;
+        for (size_t i = 0; i < points; ++i) p->r[i] *= scale;
     }
     return busy / pairs;
 }
@@ -760,9 +763,9 @@ int main(int argc, char **argv) {
             double area_conv = 0;
             if ((st = gfmd_relax(s, 1e-10, 10000000, &more)) != GFMD_OK) die(s, st, "relax to 1e-10");
             gfmd_get_contact_area(s, &area_conv);
-            const double pair_before = pair_run(&pairs, n);
+            const double pair_before = pair_run(&pairs);
             const gfmd_run g = timed_relax(s, solver, sigma0, area_conv);
-            const double t_pair = 0.5 * (pair_before + pair_run(&pairs, n));
+            const double t_pair = 0.5 * (pair_before + pair_run(&pairs));
             const double peak_mb = (read_status_kb("VmHWM:") - base_kb) / 1024.0;
             const int64_t steps = g.steps, steps_acc = g.steps_acc;
             const double t_gfmd = g.seconds, t_acc = g.seconds_acc;
