@@ -476,6 +476,62 @@ static void cg_without_memory(void **state) {
     ts_run_in_child(cg_without_memory_child);
 }
 
+/* The memory a body needs, as docs/performance.md states it: at most 80 bytes per grid point at its
+ * peak (planning with FFTW_MEASURE included) for the default's solver on a half-space (FIRE from
+ * 512^2 on), on a layer on a fluid foundation (the preconditioned CG) and for mass-weighted FIRE on
+ * a thin sheet.  The budget: h, z, v, F and the two saved fields of a call's start (48 B/pt), the
+ * complex half spectrum and the stiffness (12 B/pt), a solver's own grid fields (CG: 8 B/pt of
+ * scratch, mass-weighted FIRE: a byte) -- about 69 B/pt -- and the process's few MB of FFTW plans
+ * and code, 3 B/pt at 1024^2; 80 leaves room for neither a third grid-sized field nor a second
+ * solver's.  Measured as the rise of the peak resident set (/proc/self/status VmHWM, after
+ * resetting it through /proc/self/clear_refs) in a child process, so that no earlier test's memory
+ * counts; not under the sanitizers or valgrind, whose own memory it would measure. */
+static long status_kb(const char *key) {
+    FILE *f = fopen("/proc/self/status", "r");
+    if (f == NULL) return -1;
+    char line[256];
+    long v = -1;
+    const size_t k = strlen(key);
+    while (fgets(line, sizeof line, f))
+        if (strncmp(line, key, k) == 0) v = strtol(line + k, NULL, 10);
+    fclose(f);
+    return v;
+}
+
+static int footprint_child(double W, int32_t solver) {
+    const int64_t n = 1024;
+    FILE *clear = fopen("/proc/self/clear_refs", "w");
+    if (clear == NULL) return 0; /* no way to reset the peak here: nothing to measure */
+    const long base = status_kb("VmRSS:");
+    fputs("5", clear); /* the peak resident set := the current one */
+    fclose(clear);
+    gfmd_sim *s = NULL;
+    if (gfmd_sim_create(n, n, (double)n, (double)n, &s) != GFMD_OK) return 3;
+    int ok = gfmd_generate_selfaffine(s, 0.8, n / 8.0, 4.0, 1.0, 1, GFMD_DIST_UNIFORM) == GFMD_OK &&
+             (W == 0.0 || gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 4.0 * W) == GFMD_OK) &&
+             gfmd_set_solver(s, solver) == GFMD_OK && gfmd_set_pressure(s, 0.05) == GFMD_OK;
+    int64_t k = 0;
+    const int32_t st = ok ? gfmd_relax(s, 0.0, 20, &k) : GFMD_ERR_STATE;
+    int32_t active = -1;
+    gfmd_get_solver(s, &active);
+    const double per_point = (double)(status_kb("VmHWM:") - base) * 1024.0 / ((double)n * (double)n);
+    gfmd_sim_destroy(&s);
+    fprintf(stderr, "W = %g, solver %d (ran %d): %.1f bytes per point at the peak\n", W, (int)solver, (int)active, per_point);
+    if (st != GFMD_OK && st != GFMD_ERR_NOT_CONVERGED) return 4;
+    return per_point <= 80.0 ? 0 : 1;
+}
+static int footprint_half_space(void) { return footprint_child(0.0, GFMD_SOLVER_AUTO); }
+static int footprint_layer(void) { return footprint_child(1.0, GFMD_SOLVER_AUTO); }
+static int footprint_thin_sheet(void) { return footprint_child(0.0625, GFMD_SOLVER_FIRE_MASS); }
+
+static void memory_per_point(void **state) {
+    (void)state;
+    if (!ts_memory_cap_possible()) skip();
+    ts_run_in_child(footprint_half_space);
+    ts_run_in_child(footprint_layer);
+    ts_run_in_child(footprint_thin_sheet);
+}
+
 static void not_converged_keeps_progress(void **state) {
     gfmd_sim *s = *state;
     TS_OK(s, gfmd_set_pressure(s, 0.2));
@@ -565,6 +621,7 @@ int main(void) {
         cmocka_unit_test(automatic_choice),
         cmocka_unit_test(automatic_choice_when_continuing),
         cmocka_unit_test(cg_without_memory),
+        cmocka_unit_test(memory_per_point),
         cmocka_unit_test_setup_teardown(null_outputs, setup, teardown),
         cmocka_unit_test_setup_teardown(bad_parameters, setup, teardown),
         cmocka_unit_test_setup_teardown(bad_enums_and_combinations, setup, teardown),
