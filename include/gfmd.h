@@ -75,7 +75,7 @@ GFMD_API int32_t gfmd_last_error_length(const gfmd_sim *s, int64_t *needed);
  * @param out receives the handle; set to NULL on failure.
  * @return GFMD_ERR_INVALID_ARG for non-positive sizes, nx or ny above 2^30, or lengths that are not
  *         within [1e-100, 1e100] (NaN, inf), GFMD_ERR_NOMEM if the grid does not fit in the
- *         memory available (82 bytes per point, the measured peak) or allocation fails.
+ *         memory available (82 bytes per point, above the measured peak) or allocation fails.
  */
 GFMD_API int32_t gfmd_sim_create(int64_t nx, int64_t ny, double lx, double ly, gfmd_sim **out);
 
