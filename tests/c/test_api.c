@@ -501,7 +501,7 @@ static long status_kb(const char *key) {
 static int footprint_child(double W, int32_t solver) {
     const int64_t n = 1024;
     FILE *clear = fopen("/proc/self/clear_refs", "w");
-    if (clear == NULL) return 0; /* no way to reset the peak here: nothing to measure */
+    if (clear == NULL) return 5; /* the parent checked that it can be opened */
     const long base = status_kb("VmRSS:");
     fputs("5", clear); /* the peak resident set := the current one */
     fclose(clear);
@@ -527,6 +527,9 @@ static int footprint_thin_sheet(void) { return footprint_child(0.0625, GFMD_SOLV
 static void memory_per_point(void **state) {
     (void)state;
     if (!ts_memory_cap_possible()) skip();
+    FILE *clear = fopen("/proc/self/clear_refs", "w"); /* Linux >= 4.0: the peak can be reset */
+    if (clear == NULL) skip();
+    fclose(clear);
     ts_run_in_child(footprint_half_space);
     ts_run_in_child(footprint_layer);
     ts_run_in_child(footprint_thin_sheet);
