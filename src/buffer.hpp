@@ -4,7 +4,8 @@
 // On Linux they are anonymous mappings of their own, zero pages from the kernel: a page becomes
 // resident only when written, so a buffer a body never uses (the contact pressure of the CG on a
 // layer on a fluid foundation, where only its displacement buffer serves as scratch) costs address
-// space, not memory.
+// space, not memory.  Not under AddressSanitizer, which checks only the allocator's memory: there
+// they come from posix_memalign and are zero-filled, as everywhere else.
 #ifndef GFMD_SRC_BUFFER_HPP
 #define GFMD_SRC_BUFFER_HPP
 
@@ -70,7 +71,7 @@ private:
     }
     // Which allocator holds a buffer follows from its size alone.
     static constexpr std::size_t kHugePage = std::size_t{2} << 20, kHugeFrom = std::size_t{4} << 20;
-#if defined(__linux__)
+#if defined(__linux__) && !defined(__SANITIZE_ADDRESS__)
     static std::size_t mapped(std::size_t bytes) noexcept {  // whole pages (4 KiB, or 64 KiB on some targets)
         const long page = sysconf(_SC_PAGESIZE);
         const std::size_t p = page > 0 ? static_cast<std::size_t>(page) : 4096;
