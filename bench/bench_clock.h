@@ -1,4 +1,4 @@
-/* The benchmarks' clock and memory probes (Linux). */
+/* The benchmarks' clock and memory probes (Linux); test_api's memory test uses the probes too. */
 #ifndef GFMD_BENCH_CLOCK_H
 #define GFMD_BENCH_CLOCK_H
 
@@ -7,14 +7,14 @@
 #include <string.h>
 #include <time.h>
 
-static double now(void) {
+static inline double now(void) {
     struct timespec t;
     clock_gettime(CLOCK_MONOTONIC, &t);
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
 /* Peak resident memory since the last reset, in bytes (Linux: VmHWM, reset via clear_refs). */
-static void reset_peak(void) {
+static inline void reset_peak(void) {
     FILE *f = fopen("/proc/self/clear_refs", "w");
     if (f) {
         fputs("5", f);
@@ -23,7 +23,7 @@ static void reset_peak(void) {
 }
 
 /* A "key:" line of /proc/self/status in kB (VmRSS:, VmHWM:), or -1. */
-static double read_status_kb(const char *key) {
+static inline double read_status_kb(const char *key) {
     FILE *f = fopen("/proc/self/status", "r");
     char line[256];
     double kb = -1.0;

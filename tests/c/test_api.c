@@ -14,6 +14,7 @@
 
 #include "gfmd.h"
 #include "test_support.h"
+#include "bench_clock.h" /* reset_peak, read_status_kb */
 
 enum { NX = 32, NY = 24 };
 
@@ -486,25 +487,10 @@ static void cg_without_memory(void **state) {
  * solver's.  Measured as the rise of the peak resident set (/proc/self/status VmHWM, after
  * resetting it through /proc/self/clear_refs) in a child process, so that no earlier test's memory
  * counts; not under the sanitizers or valgrind, whose own memory it would measure. */
-static long status_kb(const char *key) {
-    FILE *f = fopen("/proc/self/status", "r");
-    if (f == NULL) return -1;
-    char line[256];
-    long v = -1;
-    const size_t k = strlen(key);
-    while (fgets(line, sizeof line, f))
-        if (strncmp(line, key, k) == 0) v = strtol(line + k, NULL, 10);
-    fclose(f);
-    return v;
-}
-
 static int footprint_child(double W, int32_t solver) {
     const int64_t n = 1024;
-    FILE *clear = fopen("/proc/self/clear_refs", "w");
-    if (clear == NULL) return 5; /* the parent checked that it can be opened */
-    const long base = status_kb("VmRSS:");
-    fputs("5", clear); /* the peak resident set := the current one */
-    fclose(clear);
+    const double base = read_status_kb("VmRSS:");
+    reset_peak(); /* the peak resident set := the current one (the parent checked that it can) */
     gfmd_sim *s = NULL;
     if (gfmd_sim_create(n, n, (double)n, (double)n, &s) != GFMD_OK) return 3;
     int ok = gfmd_generate_selfaffine(s, 0.8, n / 8.0, 4.0, 1.0, 1, GFMD_DIST_UNIFORM) == GFMD_OK &&
@@ -514,7 +500,7 @@ static int footprint_child(double W, int32_t solver) {
     const int32_t st = ok ? gfmd_relax(s, 0.0, 20, &k) : GFMD_ERR_STATE;
     int32_t active = -1;
     gfmd_get_solver(s, &active);
-    const double per_point = (double)(status_kb("VmHWM:") - base) * 1024.0 / ((double)n * (double)n);
+    const double per_point = (read_status_kb("VmHWM:") - base) * 1024.0 / ((double)n * (double)n);
     gfmd_sim_destroy(&s);
     fprintf(stderr, "W = %g, solver %d (ran %d): %.1f bytes per point at the peak\n", W, (int)solver, (int)active, per_point);
     if (st != GFMD_OK && st != GFMD_ERR_NOT_CONVERGED) return 4;
