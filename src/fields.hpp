@@ -12,7 +12,7 @@ namespace gfmd {
 // Peak bytes per grid point of a handle, measured by gfmd_bench at 512^2 to 4096^2 (76-82 B/pt:
 // the fields below, the undo snapshot, the stiffness, and FFTW's planning scratch at creation;
 // docs/performance.md) while every buffer was written at allocation; since the grid buffers are
-// resident only once written (buffer.hpp) it prints 60.1-68.0 B/pt.  The memory guard keeps the old
+// resident only once written (buffer.hpp) it prints 60.1-77.2 B/pt.  The memory guard keeps the old
 // upper end: a margin, not a measurement.
 constexpr double kPeakBytesPerPoint = 82.0;
 
