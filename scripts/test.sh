@@ -14,6 +14,7 @@ passed=0
 failed=0
 # run_ctest DIR: ctest in DIR; its exit status decides (every test in it passed, or not)
 run_ctest() {
+  echo "ctest $1 [built at $(elapsed)]"
   if ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
        ctest --test-dir "$1" --output-on-failure -j "$jobs"; then
     echo "ctest $1: all passed"; passed=$((passed + 1))
@@ -21,20 +22,22 @@ run_ctest() {
     echo "ctest $1: FAILED"; failed=$((failed + 1))
   fi
 }
-summary() { echo "test.sh: $passed passed, $failed failed"; [ "$failed" -eq 0 ]; }
+summary() { echo "test.sh: $passed passed, $failed failed ($(elapsed))"; [ "$failed" -eq 0 ]; }
+# elapsed: the wall time since the script began (each phase's line prints it, to see where it goes)
+elapsed() { printf '%d min %02d s' $((SECONDS / 60)) $((SECONDS % 60)); }
 
-echo "== release build: the test suite (with libgfmd_mpi and its tests under mpiexec)"
+echo "== release build: the test suite (with libgfmd_mpi and its tests under mpiexec) [at $(elapsed)]"
 cmake -S "$root" -B "$root/build" -DCMAKE_BUILD_TYPE=Release -DGFMD_BUILD_MPI=ON >/dev/null
 cmake --build "$root/build" -j "$jobs"
 run_ctest "$root/build"
 if [ "${1:-}" = "--quick" ]; then summary; exit $?; fi
 
-echo "== AddressSanitizer + UndefinedBehaviorSanitizer build: the test suite"
+echo "== AddressSanitizer + UndefinedBehaviorSanitizer build: the test suite [at $(elapsed)]"
 cmake -S "$root" -B "$root/build-sanitize" -DCMAKE_BUILD_TYPE=Debug -DGFMD_SANITIZE=ON -DGFMD_BUILD_MPI=ON >/dev/null
 cmake --build "$root/build-sanitize" -j "$jobs"
 run_ctest "$root/build-sanitize"
 
-echo "== ThreadSanitizer build: distinct handles in concurrent threads"
+echo "== ThreadSanitizer build: distinct handles in concurrent threads [at $(elapsed)]"
 cmake -S "$root" -B "$root/build-tsan" -DCMAKE_BUILD_TYPE=Debug -DGFMD_TSAN=ON -DGFMD_BUILD_FORTRAN=OFF \
   -DGFMD_BUILD_EXAMPLES=OFF -DGFMD_BUILD_BENCHMARK=OFF >/dev/null
 cmake --build "$root/build-tsan" -j "$jobs" --target test_threads
@@ -44,10 +47,10 @@ else
   echo "tsan test_threads: FAILED"; failed=$((failed + 1))
 fi
 
-echo "== fuzzing the C API for 60 s (libFuzzer, ASan + UBSan)"
+echo "== fuzzing the C API for 60 s (libFuzzer, ASan + UBSan) [at $(elapsed)]"
 if "$root/scripts/fuzz.sh" 60; then passed=$((passed + 1)); else failed=$((failed + 1)); fi
 
-echo "== valgrind memcheck: every unit test of the release build"
+echo "== valgrind memcheck: every unit test of the release build [at $(elapsed)]"
 logs="$root/build/valgrind"
 mkdir -p "$logs"
 # The unit tests that must run under valgrind (a missing one is a failure, not a skip), and any
