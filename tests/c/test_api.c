@@ -346,8 +346,7 @@ static void automatic_choice(void **state) {
  * 2048^2 grid costs tens of seconds under valgrind: natively and under the sanitizers only. */
 static void automatic_choice_when_continuing(void **state) {
     (void)state;
-    const char *preload = getenv("LD_PRELOAD");
-    if (preload != NULL && strstr(preload, "vgpreload") != NULL) skip();
+    if (ts_valgrind()) skip();
     const double pi = acos(-1.0);
     const int64_t sizes[] = {1024, 2048};
     for (int k = 0; k < 2; ++k) {

@@ -95,12 +95,16 @@ int ts_exhaust_memory(void) {
     return 0;
 }
 
+int ts_valgrind(void) {
+    const char *preload = getenv("LD_PRELOAD");
+    return preload != NULL && strstr(preload, "vgpreload") != NULL;
+}
+
 int ts_memory_cap_possible(void) {
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
     return 0; /* this file is built with the tests' sanitizer flags */
 #else
-    const char *preload = getenv("LD_PRELOAD");
-    return !(preload != NULL && strstr(preload, "vgpreload") != NULL);
+    return !ts_valgrind();
 #endif
 }
 

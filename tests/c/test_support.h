@@ -34,6 +34,10 @@ int ts_exhaust_memory(void);
 void ts_run_in_child(int (*body)(void));
 /* Whether ts_exhaust_memory() may be used here: not in a sanitizer build, not under valgrind. */
 int ts_memory_cap_possible(void);
+/* Whether the test runs under valgrind (its preload library is loaded).  Under valgrind, which
+ * runs these tests 30-60 times slower, a test that loops over cases of the same code paths may
+ * run one case of each path (the native and sanitizer runs take them all); it says which. */
+int ts_valgrind(void);
 
 /* Relative difference |a - b| / max(|b|, tiny). */
 double ts_rel(double a, double b);
