@@ -54,9 +54,10 @@ echo "== valgrind memcheck: every unit test of the release build [at $(elapsed)]
 logs="$root/build/valgrind"
 mkdir -p "$logs"
 # The unit tests that must run under valgrind (a missing one is a failure, not a skip), and any
-# other test_* the build made.
-required=(test_green test_sinusoid test_hertz test_selfaffine test_cg_reference test_adhesion test_api
-  test_layout test_checkpoint test_continuation test_failed_calls test_displacement test_multilevel test_threads test_theory
+# other test_* the build made; the longest first (minutes each under valgrind), so that the two
+# at a time end together.
+required=(test_cg_reference test_continuation test_threads test_displacement test_green test_sinusoid test_hertz
+  test_selfaffine test_adhesion test_api test_layout test_checkpoint test_failed_calls test_multilevel test_theory
   fortran/test_fortran_bindings)
 binaries=()
 for name in "${required[@]}"; do binaries+=("$root/build/tests/$name"); done

@@ -117,3 +117,25 @@ void ts_run_in_child(int (*body)(void)) {
     assert_true(WIFEXITED(status));
     assert_int_equal(WEXITSTATUS(status), 0);
 }
+
+double ts_value_in_child(double (*body)(const void *arg), const void *arg) {
+    int fd[2];
+    assert_int_equal(pipe(fd), 0);
+    const pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) {
+        close(fd[0]);
+        const double value = body(arg);
+        _exit(write(fd[1], &value, sizeof value) == (ssize_t)sizeof value ? 0 : 1);
+    }
+    close(fd[1]);
+    double value = NAN;
+    const ssize_t got = read(fd[0], &value, sizeof value);
+    close(fd[0]);
+    int status = 0;
+    assert_int_equal(waitpid(pid, &status, 0), pid);
+    assert_true(WIFEXITED(status));
+    assert_int_equal(WEXITSTATUS(status), 0);
+    assert_int_equal(got, (ssize_t)sizeof value);
+    return value;
+}

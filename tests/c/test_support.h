@@ -32,6 +32,9 @@ int ts_exhaust_memory(void);
 /* Run body() in a forked child process and fail the current test unless it exits with 0 (for
  * tests that must change the process, e.g. cap its memory). */
 void ts_run_in_child(int (*body)(void));
+/* Run body(arg) in a forked child process and return the number it computed (passed back through
+ * a pipe); fail the current test unless the child exits with 0 after passing it. */
+double ts_value_in_child(double (*body)(const void *arg), const void *arg);
 /* Whether ts_exhaust_memory() may be used here: not in a sanitizer build, not under valgrind. */
 int ts_memory_cap_possible(void);
 /* Whether the test runs under valgrind (its preload library is loaded).  Under valgrind, which
