@@ -108,14 +108,19 @@ int ts_memory_cap_possible(void) {
 #endif
 }
 
-void ts_run_in_child(int (*body)(void)) {
-    const pid_t pid = fork();
-    assert_true(pid >= 0);
-    if (pid == 0) _exit(body());
+/* Wait for the child pid; fail the current test unless it exited with 0. */
+static void expect_clean_exit(pid_t pid) {
     int status = 0;
     assert_int_equal(waitpid(pid, &status, 0), pid);
     assert_true(WIFEXITED(status));
     assert_int_equal(WEXITSTATUS(status), 0);
+}
+
+void ts_run_in_child(int (*body)(void)) {
+    const pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) _exit(body());
+    expect_clean_exit(pid);
 }
 
 double ts_value_in_child(double (*body)(const void *arg), const void *arg) {
@@ -132,10 +137,7 @@ double ts_value_in_child(double (*body)(const void *arg), const void *arg) {
     double value = NAN;
     const ssize_t got = read(fd[0], &value, sizeof value);
     close(fd[0]);
-    int status = 0;
-    assert_int_equal(waitpid(pid, &status, 0), pid);
-    assert_true(WIFEXITED(status));
-    assert_int_equal(WEXITSTATUS(status), 0);
+    expect_clean_exit(pid);
     assert_int_equal(got, (ssize_t)sizeof value);
     return value;
 }
