@@ -511,7 +511,8 @@ typedef struct {
 } footprint_case;
 
 /* The rise of the peak resident set over a body's creation and 20 steps, in bytes per point; a
- * negative number if a call failed.  In a child process. */
+ * negative number if a call failed or /proc/self/status could not be read (a rise of 0 kB would
+ * pass the budget without a measurement).  In a child process. */
 static double footprint(const void *arg) {
     const footprint_case *c = arg;
     const int64_t n = c->n;
@@ -519,7 +520,7 @@ static double footprint(const void *arg) {
     reset_peak(); /* the peak resident set := the current one (the parent checked that it can) */
     gfmd_sim *s = NULL;
     if (gfmd_sim_create(n, n, (double)n, (double)n, &s) != GFMD_OK) return -1.0;
-    int ok = gfmd_generate_selfaffine(s, 0.8, n / 8.0, 4.0, 1.0, 1, GFMD_DIST_UNIFORM) == GFMD_OK &&
+    const int ok = gfmd_generate_selfaffine(s, 0.8, n / 8.0, 4.0, 1.0, 1, GFMD_DIST_UNIFORM) == GFMD_OK &&
              (c->kind != GFMD_GREEN_LAYER_BONDED || gfmd_set_poisson(s, 0.3) == GFMD_OK) &&
              (c->kind == GFMD_GREEN_HALFSPACE || gfmd_set_green(s, c->kind, c->width) == GFMD_OK) &&
              gfmd_set_solver(s, c->solver) == GFMD_OK && gfmd_set_pressure(s, 0.05) == GFMD_OK;
@@ -527,8 +528,10 @@ static double footprint(const void *arg) {
     const int32_t st = ok ? gfmd_relax(s, 0.0, 20, &k) : GFMD_ERR_STATE;
     int32_t active = -1;
     gfmd_get_solver(s, &active);
-    const double per_point = (read_status_kb("VmHWM:") - base) * 1024.0 / ((double)n * (double)n);
+    const double peak = read_status_kb("VmHWM:");
+    const double per_point = (peak - base) * 1024.0 / ((double)n * (double)n);
     gfmd_sim_destroy(&s);
+    if (base < 0.0 || peak < 0.0) return -1.0;
     fprintf(stderr, "%lld^2, Green's function %d, w = %g, solver %d (ran %d): %.1f bytes per point at the peak\n",
             (long long)n, (int)c->kind, c->width, (int)c->solver, (int)active, per_point);
     return (st == GFMD_OK || st == GFMD_ERR_NOT_CONVERGED) ? per_point : -1.0;
