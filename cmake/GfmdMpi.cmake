@@ -1,12 +1,14 @@
-# libgfmd_mpi (GFMD_BUILD_MPI): the serial library's core and C API compiled again with GFMD_MPI,
-# plus the distributed grid and gfmd_mpi.h.  It exports every gfmd_* symbol of libgfmd and its
-# own (abi/gfmd_mpi.symbols): a program links one of the two.  libgfmd itself never sees MPI.
+# libgfmd_mpi (GFMD_BUILD_MPI): the serial library's core and C API (the objects of gfmd_core, and
+# checkpoint.cpp and fft_grid.cpp compiled again with GFMD_MPI), plus the distributed grid and
+# gfmd_mpi.h.  It exports every gfmd_* symbol of libgfmd and its own (abi/gfmd_mpi.symbols): a
+# program links one of the two.  libgfmd itself never sees MPI.
 find_package(MPI REQUIRED COMPONENTS C CXX)
 # Debian ships no pkg-config file for FFTW's MPI library: find it beside libfftw3.
 find_library(FFTW3_MPI_LIBRARY NAMES fftw3_mpi HINTS ${FFTW3_LIBRARY_DIRS} REQUIRED)
 find_path(FFTW3_MPI_INCLUDE_DIR fftw3-mpi.h HINTS ${FFTW3_INCLUDE_DIRS} REQUIRED)
 
-add_library(gfmd_mpi ${GFMD_CORE_SOURCES} ${GFMD_KERNEL_OBJECTS} src/mpi/fft_grid_mpi.cpp src/mpi/c_api_mpi.cpp src/mpi/checkpoint_mpi.cpp)
+add_library(gfmd_mpi ${GFMD_VARIANT_SOURCES} $<TARGET_OBJECTS:gfmd_core> ${GFMD_KERNEL_OBJECTS}
+  src/mpi/fft_grid_mpi.cpp src/mpi/c_api_mpi.cpp src/mpi/checkpoint_mpi.cpp)
 add_library(gfmd::mpi ALIAS gfmd_mpi)
 target_compile_definitions(gfmd_mpi PRIVATE GFMD_MPI)
 set_target_properties(gfmd_mpi PROPERTIES
