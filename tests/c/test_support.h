@@ -38,7 +38,7 @@ double ts_value_in_child(double (*body)(const void *arg), const void *arg);
 /* Whether ts_exhaust_memory() may be used here: not in a sanitizer build, not under valgrind. */
 int ts_memory_cap_possible(void);
 /* Whether the test runs under valgrind (its preload library is loaded).  Under valgrind, which
- * runs these tests 30-60 times slower, a test that loops over cases of the same code paths may
+ * runs these tests many times slower, a test that loops over cases of the same code paths may
  * run one case of each path (the native and sanitizer runs take them all); it says which. */
 int ts_valgrind(void);
 
