@@ -44,6 +44,8 @@ echo "== fuzzing the C API for 60 s (libFuzzer, ASan + UBSan), in the background
 mkdir -p "$root/build"
 "$root/scripts/fuzz.sh" 60 >"$root/build/fuzz.log" 2>&1 &
 fuzz_pid=$!
+# a phase that stops the script (set -e) must not leave the fuzzer (or its build) running behind it
+trap 'pkill -P "$fuzz_pid" 2>/dev/null; kill "$fuzz_pid" 2>/dev/null || true' EXIT
 
 echo "== ThreadSanitizer build: distinct handles in concurrent threads [at $(elapsed)]"
 cmake -S "$root" -B "$root/build-tsan" -DCMAKE_BUILD_TYPE=Debug -DGFMD_TSAN=ON -DGFMD_BUILD_FORTRAN=OFF \
@@ -56,7 +58,10 @@ else
 fi
 
 echo "== the fuzzer's end [at $(elapsed)]"
-if wait "$fuzz_pid"; then
+fuzz_status=0
+wait "$fuzz_pid" || fuzz_status=$?
+trap - EXIT
+if [ "$fuzz_status" -eq 0 ]; then
   tail -n 8 "$root/build/fuzz.log"; passed=$((passed + 1))
 else
   cat "$root/build/fuzz.log"; echo "fuzz: FAILED"; failed=$((failed + 1))
