@@ -9,7 +9,7 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 jobs="$(nproc)"
-"$root/scripts/setup.sh" valgrind python3-numpy python3-pytest python3-matplotlib libopenmpi-dev openmpi-bin libfftw3-mpi-dev
+"$root/scripts/setup.sh" procps valgrind python3-numpy python3-pytest python3-matplotlib libopenmpi-dev openmpi-bin libfftw3-mpi-dev
 passed=0
 failed=0
 # run_ctest DIR: ctest in DIR; its exit status decides (every test in it passed, or not)
@@ -37,15 +37,30 @@ cmake -S "$root" -B "$root/build-sanitize" -DCMAKE_BUILD_TYPE=Debug -DGFMD_SANIT
 cmake --build "$root/build-sanitize" -j "$jobs"
 run_ctest "$root/build-sanitize"
 
-# The fuzzer runs on one core for 60 s: beside the ThreadSanitizer phase, its output in a log that
-# is printed when it ends (its clang packages are installed first, alone).
+# The fuzzer runs on one core for 60 s: beside the ThreadSanitizer phase and the first valgrind
+# runs, its output in a log that is printed when it ends (its clang packages are installed first,
+# alone). Its exit status goes to a file: the valgrind runs below are waited for with `wait -n`,
+# which may reap the fuzzer too.
 "$root/scripts/setup.sh" clang libclang-rt-14-dev libomp-14-dev
 echo "== fuzzing the C API for 60 s (libFuzzer, ASan + UBSan), in the background [at $(elapsed)]"
 mkdir -p "$root/build"
-"$root/scripts/fuzz.sh" 60 >"$root/build/fuzz.log" 2>&1 &
+rm -f "$root/build/fuzz.status"
+fuzz_in_background() {
+  local status=0
+  "$root/scripts/fuzz.sh" 60 >"$root/build/fuzz.log" 2>&1 || status=$?
+  echo "$status" >"$root/build/fuzz.status"
+}
+fuzz_in_background &
 fuzz_pid=$!
+# kill_tree PID: PID and every process below it (the fuzzer's subshell, fuzz.sh, its build or
+# fuzz_api)
+kill_tree() {
+  local child
+  for child in $(pgrep -P "$1" 2>/dev/null); do kill_tree "$child"; done
+  kill "$1" 2>/dev/null || true
+}
 # a phase that stops the script (set -e) must not leave the fuzzer (or its build) running behind it
-trap 'pkill -P "$fuzz_pid" 2>/dev/null; kill "$fuzz_pid" 2>/dev/null || true' EXIT
+trap 'kill_tree "$fuzz_pid"' EXIT
 
 echo "== ThreadSanitizer build: distinct handles in concurrent threads [at $(elapsed)]"
 cmake -S "$root" -B "$root/build-tsan" -DCMAKE_BUILD_TYPE=Debug -DGFMD_TSAN=ON -DGFMD_BUILD_FORTRAN=OFF \
@@ -55,16 +70,6 @@ if TSAN_OPTIONS=halt_on_error=1 OMP_NUM_THREADS=1 "$root/build-tsan/tests/test_t
   echo "tsan test_threads: clean"; passed=$((passed + 1))
 else
   echo "tsan test_threads: FAILED"; failed=$((failed + 1))
-fi
-
-echo "== the fuzzer's end [at $(elapsed)]"
-fuzz_status=0
-wait "$fuzz_pid" || fuzz_status=$?
-trap - EXIT
-if [ "$fuzz_status" -eq 0 ]; then
-  tail -n 8 "$root/build/fuzz.log"; passed=$((passed + 1))
-else
-  cat "$root/build/fuzz.log"; echo "fuzz: FAILED"; failed=$((failed + 1))
 fi
 
 echo "== valgrind memcheck: every unit test of the release build [at $(elapsed)]"
@@ -83,7 +88,8 @@ for t in "$root"/build/tests/test_*; do
 done
 binaries+=("$root/build/fuzz/fuzz_replay")
 # valgrind_one BINARY: memcheck on one test binary, its output in $logs/NAME.log and its exit
-# status in $logs/NAME.status (the runs go $jobs at a time: valgrind uses one core each)
+# status in $logs/NAME.status (the runs go $jobs at a time, the fuzzer counted while it runs:
+# valgrind uses one core each)
 valgrind_one() {
   local t="$1" name args=()
   name="$(basename "$t")"
@@ -100,7 +106,8 @@ for t in "${binaries[@]}"; do
   while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do wait -n || true; done
   valgrind_one "$t" &
 done
-wait
+wait # the valgrind runs and the fuzzer
+trap - EXIT
 for t in "${binaries[@]}"; do
   name="$(basename "$t")"
   if [ ! -x "$t" ]; then
@@ -111,4 +118,10 @@ for t in "${binaries[@]}"; do
     echo "valgrind $name: FAILED"; tail -n 40 "$logs/$name.log"; failed=$((failed + 1))
   fi
 done
+echo "== the fuzzer's end [at $(elapsed)]"
+if [ "$(cat "$root/build/fuzz.status" 2>/dev/null)" = 0 ]; then
+  tail -n 8 "$root/build/fuzz.log"; passed=$((passed + 1))
+else
+  cat "$root/build/fuzz.log"; echo "fuzz: FAILED"; failed=$((failed + 1))
+fi
 summary

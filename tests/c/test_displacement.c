@@ -112,6 +112,10 @@ static void pressure_and_displacement_control_agree(void **state) {
  * lift of 1e-14 released the whole contact set now and then, and this relax never converged. */
 static void cg_on_a_thin_sheet(void **state) {
     (void)state;
+    /* Not under valgrind: its ~2000 iterations repeat, at 128^2, the code that
+     * pressure_and_displacement_control_agree runs there with CG under displacement control (the
+     * half-space and the fluid layer); they took 36 of the test's 78 s under valgrind. */
+    if (ts_valgrind()) skip();
     enum { M = 128 };
     const double sigma0 = 3e-4, tol = 1e-10;
     gfmd_sim *p = NULL, *d = NULL;
@@ -164,7 +168,8 @@ static double walk(gfmd_sim *s, const double *d, int n, double *sigma, double *u
 
 /* The half-space and the bonded layer with adhesion; under valgrind the bonded layer only (the
  * half-space's walk is the same code without adhesion, and pressure_and_displacement_control_agree
- * steps it there). */
+ * steps it there), on the path's first 6 positions: the same calls as the 41 (each position moved
+ * from the last equilibrium), in 5 of the 40 intervals (the whole walk took 24 s there). */
 static void work_equals_energy_change(void **state) {
     (void)state;
     for (int body = ts_valgrind() ? 2 : 0; body < 3; body += 2) {
@@ -175,13 +180,15 @@ static void work_equals_energy_change(void **state) {
         enum { K = 41 };
         double d[K], sigma[K], u[K];
         for (int k = 0; k < K; ++k) d[k] = hmax - 0.3 - 0.6 * k / (K - 1.0); /* in contact all along */
-        const double work = walk(s, d, K, sigma, u);
-        const double du = u[K - 1] - u[0];
+        const int last = ts_valgrind() ? 5 : K - 1;
+        const double work = walk(s, d, last + 1, sigma, u);
+        const double du = u[last] - u[0];
         print_message("body %d: work %.8g, U_el - U_ad from %.8g to %.8g (change %.8g), sigma %.4g -> %.4g\n", body,
-                      work, u[0], u[K - 1], du, sigma[0], sigma[K - 1]);
+                      work, u[0], u[last], du, sigma[0], sigma[last]);
         /* The trapezoid rule on 40 steps of a piecewise smooth sigma(d) (it bends where points
-         * enter the contact): error measured below 1e-3 of the change; 1 % asserted. */
-        assert_true(sigma[K - 1] > sigma[0]);
+         * enter the contact): error measured below 1e-3 of the change (on the first 5 steps
+         * alone, the same spacing: 2.4e-5 on the bonded layer); 1 % asserted. */
+        assert_true(sigma[last] > sigma[0]);
         assert_true(fabs(work - du) <= 1e-2 * fabs(du));
         gfmd_sim_destroy(&s);
     }
