@@ -78,9 +78,9 @@ mkdir -p "$logs"
 # The unit tests that must run under valgrind (a missing one is a failure, not a skip), and any
 # other test_* the build made; the longest first (minutes each under valgrind), so that the two
 # at a time end together.
-required=(test_cg_reference test_continuation test_threads test_displacement test_green test_sinusoid test_hertz
-  test_selfaffine test_adhesion test_api test_layout test_checkpoint test_failed_calls test_multilevel test_theory
-  fortran/test_fortran_bindings)
+required=(test_cg_reference test_threads test_continuation test_hertz test_displacement test_multilevel test_api
+  test_selfaffine test_adhesion test_theory test_checkpoint fortran/test_fortran_bindings test_sinusoid test_layout
+  test_failed_calls test_green)
 binaries=()
 for name in "${required[@]}"; do binaries+=("$root/build/tests/$name"); done
 for t in "$root"/build/tests/test_*; do
