@@ -215,8 +215,7 @@ void decode_rows(const unsigned char *in, int64_t nx, int64_t rows, double *a, u
 // The serial file: stdio.
 class SerialFile final : public CheckpointFile {
 public:
-    SerialFile(const std::string &path, bool write) : path_(path), write_(write) {
-        name_ = write ? path + ".tmp" : path;
+    SerialFile(const std::string &path, bool write) : path_(path), name_(write ? path + ".tmp" : path), write_(write) {
         f_ = std::fopen(name_.c_str(), write ? "wb" : "rb");
         if (f_ == nullptr) fail(GFMD_ERR_IO, std::string("cannot ") + (write ? "create '" : "open '") + name_ + "'");
     }

@@ -314,7 +314,7 @@ int32_t agree_on(MPI_Comm comm, int32_t status, std::string &message) noexcept {
                                            : std::string(static_cast<std::size_t>(len), ' ');
         if (MPI_Bcast(&text[0], len, MPI_CHAR, first, comm) != MPI_SUCCESS) return GFMD_ERR_MPI;
         if (rank != first) message = text;
-        else message = message.substr(0, static_cast<std::size_t>(len));
+        else message.resize(static_cast<std::size_t>(len));
     } catch (...) {
         // no memory for the message: every rank still has the status
     }
