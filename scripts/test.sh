@@ -87,17 +87,19 @@ for t in "$root"/build/tests/test_*; do
   case " ${required[*]} " in *" $(basename "$t") "*) ;; *) binaries+=("$t") ;; esac
 done
 binaries+=("$root/build/fuzz/fuzz_replay")
-# valgrind_one BINARY: memcheck on one test binary, its output in $logs/NAME.log and its exit
-# status in $logs/NAME.status (the runs go $jobs at a time, the fuzzer counted while it runs:
-# valgrind uses one core each)
+# valgrind_one BINARY: memcheck on one test binary, its output in $logs/NAME.log, its exit
+# status in $logs/NAME.status and its wall seconds in $logs/NAME.seconds (printed with the
+# result). The runs go $jobs at a time, the fuzzer counted while it runs: valgrind uses one core
+# each.
 valgrind_one() {
   local t="$1" name args=()
   name="$(basename "$t")"
   [ "$name" = fuzz_replay ] && args=("$root/fuzz/corpus" "$root/fuzz/regressions")
-  local status=0
+  local status=0 start=$SECONDS
   (cd "$root/build/tests" && OMP_NUM_THREADS=1 valgrind -q --error-exitcode=99 --leak-check=full \
       --errors-for-leak-kinds=definite,indirect --show-leak-kinds=definite,indirect \
       "$t" "${args[@]}" >"$logs/$name.log" 2>&1) || status=$?
+  echo $((SECONDS - start)) >"$logs/$name.seconds"
   echo "$status" >"$logs/$name.status"
 }
 for t in "${binaries[@]}"; do
@@ -113,7 +115,7 @@ for t in "${binaries[@]}"; do
   if [ ! -x "$t" ]; then
     echo "valgrind $name: MISSING ($t was not built)"; failed=$((failed + 1))
   elif [ "$(cat "$logs/$name.status" 2>/dev/null)" = 0 ]; then
-    echo "valgrind $name: clean"; passed=$((passed + 1))
+    echo "valgrind $name: clean ($(cat "$logs/$name.seconds") s)"; passed=$((passed + 1))
   else
     echo "valgrind $name: FAILED"; tail -n 40 "$logs/$name.log"; failed=$((failed + 1))
   fi
