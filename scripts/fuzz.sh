@@ -3,6 +3,7 @@
 # Any crash, hang, leak or sanitizer report fails; the input that caused it is left in
 # build-fuzz/findings/ -- copy it to fuzz/regressions/ so that ctest replays it forever.
 #   scripts/fuzz.sh [seconds]   (default 60)
+#   scripts/fuzz.sh --build     (the fuzzer's build only: scripts/test.sh builds it ahead)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 seconds="${1:-60}"
@@ -11,6 +12,7 @@ cmake -S "$root" -B "$root/build-fuzz" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DGFMD_FUZZ=ON \
   -DGFMD_BUILD_TESTS=OFF -DGFMD_BUILD_EXAMPLES=OFF -DGFMD_BUILD_BENCHMARK=OFF -DGFMD_BUILD_FORTRAN=OFF >/dev/null
 cmake --build "$root/build-fuzz" -j "$(nproc)" --target fuzz_api
+if [ "$seconds" = "--build" ]; then exit 0; fi
 work="$root/build-fuzz/corpus"
 findings="$root/build-fuzz/findings"
 mkdir -p "$work" "$findings"

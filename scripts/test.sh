@@ -6,10 +6,16 @@
 # The MPI library (GFMD_BUILD_MPI) is built and tested in the release build and under ASan + UBSan
 # (without leak checks there: Open MPI's own allocations, see tests/mpi/CMakeLists.txt); the
 # ThreadSanitizer and valgrind runs cover the serial library.
+# Each phase's build runs in the background, at the lowest priority, while the phase before it
+# tests: a ctest leaves a core idle for tens of seconds (its serial tests, its last long ones),
+# which the build takes; the tests keep the cores whenever they want them (no test times itself).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 jobs="$(nproc)"
-"$root/scripts/setup.sh" procps valgrind python3-numpy python3-pytest python3-matplotlib libopenmpi-dev openmpi-bin libfftw3-mpi-dev
+extra=(procps valgrind python3-numpy python3-pytest python3-matplotlib libopenmpi-dev openmpi-bin libfftw3-mpi-dev)
+# the fuzzer's compiler too, in the same apt run (one package index update on a fresh machine)
+[ "${1:-}" = "--quick" ] || extra+=(clang libclang-rt-14-dev libomp-14-dev)
+"$root/scripts/setup.sh" "${extra[@]}"
 passed=0
 failed=0
 # run_ctest DIR: ctest in DIR; its exit status decides (every test in it passed, or not)
@@ -25,25 +31,69 @@ run_ctest() {
 summary() { echo "test.sh: $passed passed, $failed failed ($(elapsed))"; [ "$failed" -eq 0 ]; }
 # elapsed: the wall time since the script began (each phase's line prints it, to see where it goes)
 elapsed() { printf '%d min %02d s' $((SECONDS / 60)) $((SECONDS % 60)); }
+# kill_tree PID: PID and every process below it (a background build, the fuzzer and its subshell)
+kill_tree() {
+  local child
+  for child in $(pgrep -P "$1" 2>/dev/null); do kill_tree "$child"; done
+  kill "$1" 2>/dev/null || true
+}
+# A phase that stops the script (set -e) must not leave a background build or the fuzzer behind it.
+background=()
+trap 'for pid in "${background[@]}"; do kill_tree "$pid"; done' EXIT
+# build_in_background NAME COMMAND...: runs the command at the lowest priority, its output in
+# build/NAME.log and its exit status in build/NAME.status; build_wait NAME waits for it and
+# prints the log if it failed (the script stops then, as it does when a foreground build fails).
+build_in_background() {
+  local name="$1"; shift
+  rm -f "$root/build/$name.status"
+  mkdir -p "$root/build"
+  (
+    renice -n 19 -p "$BASHPID" >/dev/null # its children (compilers, cmake) inherit it
+    status=0
+    "$@" >"$root/build/$name.log" 2>&1 || status=$?
+    echo "$status" >"$root/build/$name.status"
+  ) &
+  background+=($!)
+}
+build_wait() {
+  while [ ! -f "$root/build/$1.status" ]; do sleep 1; done
+  if [ "$(cat "$root/build/$1.status")" != 0 ]; then
+    cat "$root/build/$1.log"; echo "build $1: FAILED"; exit 1
+  fi
+  echo "build $1: done [at $(elapsed)]"
+}
 
 echo "== release build: the test suite (with libgfmd_mpi and its tests under mpiexec) [at $(elapsed)]"
 cmake -S "$root" -B "$root/build" -DCMAKE_BUILD_TYPE=Release -DGFMD_BUILD_MPI=ON >/dev/null
 cmake --build "$root/build" -j "$jobs"
+if [ "${1:-}" = "--quick" ]; then run_ctest "$root/build"; summary; exit $?; fi
+# (the build functions chain their commands with &&: set -e does not act in a function called
+# from the left of ||, as build_in_background calls them)
+sanitize_build() {
+  cmake -S "$root" -B "$root/build-sanitize" -DCMAKE_BUILD_TYPE=Debug -DGFMD_SANITIZE=ON -DGFMD_BUILD_MPI=ON &&
+    cmake --build "$root/build-sanitize" -j "$jobs"
+}
+echo "== the AddressSanitizer + UndefinedBehaviorSanitizer build begins in the background [at $(elapsed)]"
+build_in_background sanitize sanitize_build
 run_ctest "$root/build"
-if [ "${1:-}" = "--quick" ]; then summary; exit $?; fi
 
 echo "== AddressSanitizer + UndefinedBehaviorSanitizer build: the test suite [at $(elapsed)]"
-cmake -S "$root" -B "$root/build-sanitize" -DCMAKE_BUILD_TYPE=Debug -DGFMD_SANITIZE=ON -DGFMD_BUILD_MPI=ON >/dev/null
-cmake --build "$root/build-sanitize" -j "$jobs"
+build_wait sanitize
+tsan_build() {
+  cmake -S "$root" -B "$root/build-tsan" -DCMAKE_BUILD_TYPE=Debug -DGFMD_TSAN=ON -DGFMD_BUILD_FORTRAN=OFF \
+    -DGFMD_BUILD_EXAMPLES=OFF -DGFMD_BUILD_BENCHMARK=OFF &&
+    cmake --build "$root/build-tsan" -j "$jobs" --target test_threads &&
+    "$root/scripts/fuzz.sh" --build
+}
+echo "== the ThreadSanitizer and fuzzer builds begin in the background [at $(elapsed)]"
+build_in_background tsan_fuzz tsan_build
 run_ctest "$root/build-sanitize"
+build_wait tsan_fuzz
 
-# The fuzzer runs on one core for 60 s: beside the ThreadSanitizer phase and the first valgrind
-# runs, its output in a log that is printed when it ends (its clang packages are installed first,
-# alone). Its exit status goes to a file: the valgrind runs below are waited for with `wait -n`,
-# which may reap the fuzzer too.
-"$root/scripts/setup.sh" clang libclang-rt-14-dev libomp-14-dev
+# The fuzzer runs on one core for 60 s: beside the ThreadSanitizer run and the first valgrind
+# runs, its output in a log that is printed when it ends. Its exit status goes to a file: the
+# valgrind runs below are waited for with `wait -n`, which may reap the fuzzer too.
 echo "== fuzzing the C API for 60 s (libFuzzer, ASan + UBSan), in the background [at $(elapsed)]"
-mkdir -p "$root/build"
 rm -f "$root/build/fuzz.status"
 fuzz_in_background() {
   local status=0
@@ -51,21 +101,9 @@ fuzz_in_background() {
   echo "$status" >"$root/build/fuzz.status"
 }
 fuzz_in_background &
-fuzz_pid=$!
-# kill_tree PID: PID and every process below it (the fuzzer's subshell, fuzz.sh, its build or
-# fuzz_api)
-kill_tree() {
-  local child
-  for child in $(pgrep -P "$1" 2>/dev/null); do kill_tree "$child"; done
-  kill "$1" 2>/dev/null || true
-}
-# a phase that stops the script (set -e) must not leave the fuzzer (or its build) running behind it
-trap 'kill_tree "$fuzz_pid"' EXIT
+background+=($!)
 
-echo "== ThreadSanitizer build: distinct handles in concurrent threads [at $(elapsed)]"
-cmake -S "$root" -B "$root/build-tsan" -DCMAKE_BUILD_TYPE=Debug -DGFMD_TSAN=ON -DGFMD_BUILD_FORTRAN=OFF \
-  -DGFMD_BUILD_EXAMPLES=OFF -DGFMD_BUILD_BENCHMARK=OFF >/dev/null
-cmake --build "$root/build-tsan" -j "$jobs" --target test_threads
+echo "== ThreadSanitizer: distinct handles in concurrent threads [at $(elapsed)]"
 if TSAN_OPTIONS=halt_on_error=1 OMP_NUM_THREADS=1 "$root/build-tsan/tests/test_threads"; then
   echo "tsan test_threads: clean"; passed=$((passed + 1))
 else
