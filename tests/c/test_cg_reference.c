@@ -25,6 +25,45 @@ typedef struct {
     int32_t solver; /* 0: the library's default */
 } rough_case;
 
+/* The reference's answer for a body, load and substrate, solved once per process: several tests
+ * compare different solvers with the same case (the reference's 2551 iterations on the thin sheet
+ * twice, its 845 on W = 1 three times).  Keyed by the case and the substrate itself, so a hit is
+ * the same deterministic solve. */
+enum { REF_CACHE = 16 };
+static struct {
+    rough_case c;
+    double *h;
+    cg_result ref;
+} ref_cache[REF_CACHE];
+static int ref_cached;
+
+static cg_result reference(const rough_case *c, const double *h) {
+    const int64_t n = c->n;
+    const size_t bytes = (size_t)(n * n) * sizeof *h;
+    for (int k = 0; k < ref_cached; ++k) {
+        const rough_case *d = &ref_cache[k].c;
+        if (d->n == n && d->kind == c->kind && d->width == c->width && d->nu == c->nu && d->sigma0 == c->sigma0 &&
+            memcmp(ref_cache[k].h, h, bytes) == 0)
+            return ref_cache[k].ref;
+    }
+    const double l = (double)n;
+    cg_result ref = cg_solve(n, n, l, l, h, c->kind, c->width, c->nu, 1.0, c->sigma0, 1e-10, 200000, NULL, NULL);
+    if (ref_cached < REF_CACHE) {
+        ref_cache[ref_cached].c = *c;
+        ref_cache[ref_cached].h = ts_alloc((size_t)(n * n));
+        memcpy(ref_cache[ref_cached].h, h, bytes);
+        ref_cache[ref_cached++].ref = ref;
+    }
+    return ref;
+}
+
+static int free_reference_cache(void **state) {
+    (void)state;
+    for (int k = 0; k < ref_cached; ++k) free(ref_cache[k].h);
+    ref_cached = 0;
+    return 0;
+}
+
 static void compare_with_cg(const rough_case *c) {
     const int64_t n = c->n, nn = n * n;
     const double l = (double)n;
@@ -47,7 +86,7 @@ static void compare_with_cg(const rough_case *c) {
     TS_OK(s, gfmd_get_pressure(s, p));
     TS_OK(s, gfmd_get_surface(s, z));
 
-    cg_result ref = cg_solve(n, n, l, l, h, c->kind, c->width, c->nu, 1.0, c->sigma0, 1e-10, 200000, NULL, NULL);
+    cg_result ref = reference(c, h);
     assert_true(ref.converged);
     print_message("solver %d n=%lld kind=%d w=%.2f sigma0=%.3g: GFMD A/A0 %.5f gap %.5f (%lld steps) | CG A/A0 %.5f gap %.5f "
                   "(%lld iterations)\n",
@@ -184,11 +223,12 @@ static void mass_weighted_thin_sheet_steps(void **state) {
  * of 7 steps (which cross the switch) follows one call bit for bit, and it reaches FIRE's answer
  * from the same start (both to 1e-8: the contact sets within two points of 4096 and the gap to
  * 1e-5, as in solvers_agree; with adhesion the same contact area to 1e-3, the sheet at this low
- * load being sticky). */
+ * load being sticky).  Under valgrind the adhesive sheet only (its 3 relaxes of 1300-1600 steps
+ * run every call the other's do, with the adhesive forces on top). */
 static void approach_then_fire(void **state) {
     (void)state;
     const double adhesion[2] = {0.0, 1e-3};
-    for (int a = 0; a < 2; ++a) {
+    for (int a = ts_valgrind() ? 1 : 0; a < 2; ++a) {
         gfmd_sim *s[3];
         for (int k = 0; k < 3; ++k) {
             s[k] = ts_create(64, 64, 64.0, 64.0);
@@ -433,5 +473,5 @@ int main(void) {
         cmocka_unit_test(cg_between_tests_not_converged),
         cmocka_unit_test(solvers_agree),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    return cmocka_run_group_tests(tests, NULL, free_reference_cache);
 }
