@@ -52,9 +52,11 @@ static void check_hertz(int64_t n, double radius, double a_target, double e_star
     gfmd_sim_destroy(&s);
 }
 
+/* Under valgrind the 128^2 sphere only: the 256^2 one runs the same calls at four times the cost
+ * (three quarters of the test's time there). */
 static void hertz_sphere(void **state) {
     (void)state;
-    check_hertz(256, 100.0, 20.0, 1.0);
+    if (!ts_valgrind()) check_hertz(256, 100.0, 20.0, 1.0);
     check_hertz(128, 60.0, 12.0, 2.5);
 }
 
