@@ -72,7 +72,7 @@ static spectrum_stats analyse(int64_t nx, int64_t ny, double lx, double ly, cons
 
 static void check_surface(int64_t nx, int64_t ny, double lx, double ly, double hurst, double lambda_r,
                           double lambda_s, double grad, uint64_t seed, int32_t dist) {
-    gfmd_sim *s = ts_create(nx, ny, lx, ly);
+    gfmd_sim *s = ts_create_estimate(nx, ny, lx, ly);
     TS_OK(s, gfmd_generate_selfaffine(s, hurst, lambda_r, lambda_s, grad, seed, dist));
     double *h = ts_alloc((size_t)(nx * ny));
     TS_OK(s, gfmd_get_heights(s, h));
@@ -106,10 +106,10 @@ static void reproducible_by_seed(void **state) {
     (void)state;
     const int64_t n = 64, nn = n * n;
     double *a = ts_alloc((size_t)nn), *b = ts_alloc((size_t)nn);
-    gfmd_sim *s = ts_create(n, n, 64.0, 64.0);
+    gfmd_sim *s = ts_create_estimate(n, n, 64.0, 64.0);
     TS_OK(s, gfmd_generate_selfaffine(s, 0.8, 16.0, 4.0, 1.0, 1234, GFMD_DIST_UNIFORM));
     TS_OK(s, gfmd_get_heights(s, a));
-    gfmd_sim *t = ts_create(n, n, 64.0, 64.0);
+    gfmd_sim *t = ts_create_estimate(n, n, 64.0, 64.0);
     TS_OK(t, gfmd_generate_selfaffine(t, 0.8, 16.0, 4.0, 1.0, 1234, GFMD_DIST_UNIFORM));
     TS_OK(t, gfmd_get_heights(t, b));
     assert_memory_equal(a, b, sizeof(double) * (size_t)nn);
@@ -132,7 +132,7 @@ static void reproducible_by_seed(void **state) {
 
 static void invalid_parameters(void **state) {
     (void)state;
-    gfmd_sim *s = ts_create(32, 32, 32.0, 32.0);
+    gfmd_sim *s = ts_create_estimate(32, 32, 32.0, 32.0);
     double *before = ts_alloc(32 * 32), *after = ts_alloc(32 * 32);
     TS_OK(s, gfmd_generate_selfaffine(s, 0.8, 16.0, 4.0, 1.0, 1, GFMD_DIST_UNIFORM));
     TS_OK(s, gfmd_get_heights(s, before));

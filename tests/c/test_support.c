@@ -29,6 +29,13 @@ gfmd_sim *ts_create(int64_t nx, int64_t ny, double lx, double ly) {
     return s;
 }
 
+gfmd_sim *ts_create_estimate(int64_t nx, int64_t ny, double lx, double ly) {
+    gfmd_sim *s = NULL;
+    assert_int_equal(gfmd_sim_create_ex(nx, ny, lx, ly, 0, GFMD_PLANNER_ESTIMATE, &s), GFMD_OK);
+    assert_non_null(s);
+    return s;
+}
+
 double *ts_alloc(size_t n) {
     double *p = calloc(n, sizeof *p);
     assert_non_null(p);

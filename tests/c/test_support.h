@@ -13,6 +13,9 @@
 void ts_check_ok(const gfmd_sim *s, int32_t st, const char *what, const char *file, int line);
 
 gfmd_sim *ts_create(int64_t nx, int64_t ny, double lx, double ly);
+/* The same with FFTW_ESTIMATE plans, for tests that take no steps: the measuring planner's trial
+ * transforms cost more than all their transforms (about 3 s a size under valgrind). */
+gfmd_sim *ts_create_estimate(int64_t nx, int64_t ny, double lx, double ly);
 double *ts_alloc(size_t n); /* zeroed doubles; freed with free() */
 
 /* Stiffness 1/G(q) = q E* / (2 f(q w)) of mode (kx, ky) of the r2c half-spectrum; 0 for q = 0. */

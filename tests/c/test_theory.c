@@ -28,7 +28,7 @@ static double variance(const gfmd_sim *s) {
  * sums' rounding over 64^2 modes. */
 static void halfspace_variance_is_gradient(void **state) {
     (void)state;
-    gfmd_sim *s = ts_create(96, 64, 96.0, 64.0);
+    gfmd_sim *s = ts_create_estimate(96, 64, 96.0, 64.0);
     TS_OK(s, gfmd_generate_selfaffine(s, 0.8, 32.0, 4.0, 0.7, 5, GFMD_DIST_UNIFORM));
     TS_OK(s, gfmd_set_modulus(s, 2.5));
     const double expect = pow(2.5 * 0.7 / 2.0, 2);
@@ -49,7 +49,7 @@ static void halfspace_variance_is_gradient(void **state) {
 
 /* V of a fresh handle made with the given substrate seed, modulus and layer width (0: half-space). */
 static double fresh_variance(uint64_t seed, double e_star, double width) {
-    gfmd_sim *f = ts_create(96, 64, 96.0, 64.0);
+    gfmd_sim *f = ts_create_estimate(96, 64, 96.0, 64.0);
     if (width > 0.0) TS_OK(f, gfmd_set_green(f, GFMD_GREEN_LAYER_FLUID, width));
     TS_OK(f, gfmd_set_modulus(f, e_star));
     TS_OK(f, gfmd_generate_selfaffine(f, 0.8, 32.0, 4.0, 0.7, seed, GFMD_DIST_UNIFORM));
@@ -63,7 +63,7 @@ static double fresh_variance(uint64_t seed, double e_star, double width) {
  * settings; a change that fails, a change of load and a clone keep it. */
 static void variance_follows_substrate_and_body(void **state) {
     (void)state;
-    gfmd_sim *s = ts_create(96, 64, 96.0, 64.0);
+    gfmd_sim *s = ts_create_estimate(96, 64, 96.0, 64.0);
     TS_OK(s, gfmd_generate_selfaffine(s, 0.8, 32.0, 4.0, 0.7, 5, GFMD_DIST_UNIFORM));
     const double v0 = variance(s);
     assert_true(v0 == fresh_variance(5, 1.0, 0.0));
@@ -131,7 +131,7 @@ static void variance_kept_without_memory(void **state) {
  * rounding of the load, < 1e-13, where erf alone would keep only 1 - A/A0's absolute 1e-16. */
 static void persson_load_inverts_area(void **state) {
     (void)state;
-    gfmd_sim *s = ts_create(96, 64, 96.0, 64.0);
+    gfmd_sim *s = ts_create_estimate(96, 64, 96.0, 64.0);
     TS_OK(s, gfmd_generate_selfaffine(s, 0.8, 32.0, 4.0, 0.7, 5, GFMD_DIST_UNIFORM));
     TS_OK(s, gfmd_set_modulus(s, 2.5));
     double load = NAN;
@@ -172,7 +172,7 @@ static void sinusoid_layer_variance(void **state) {
     double *h = ts_alloc((size_t)(nx * ny));
     for (int64_t y = 0; y < ny; ++y)
         for (int64_t x = 0; x < nx; ++x) h[y * nx + x] = h0 * cos(q * (double)x);
-    gfmd_sim *s = ts_create(nx, ny, lx, ly);
+    gfmd_sim *s = ts_create_estimate(nx, ny, lx, ly);
     TS_OK(s, gfmd_set_heights(s, h));
     TS_OK(s, gfmd_set_poisson(s, 0.3));
     const double widths[] = {0.05, 0.5, 2.0, 40.0};
@@ -193,7 +193,7 @@ static void sinusoid_layer_variance(void **state) {
  * thin-plate limit V scales as w^6 (k ~ q^4 w^3 E* /12), so A/A0 at small load as w^-3. */
 static void persson_thin_plate_scaling(void **state) {
     (void)state;
-    gfmd_sim *s = ts_create(128, 128, 128.0, 128.0);
+    gfmd_sim *s = ts_create_estimate(128, 128, 128.0, 128.0);
     TS_OK(s, gfmd_generate_selfaffine(s, 0.8, 32.0, 8.0, 1.0, 3, GFMD_DIST_UNIFORM));
     double prev = 0.0;
     const double widths[] = {64.0, 8.0, 1.0, 0.1, 0.01};
@@ -214,7 +214,7 @@ static void persson_thin_plate_scaling(void **state) {
 
 static void persson_bad_input(void **state) {
     (void)state;
-    gfmd_sim *s = ts_create(32, 32, 32.0, 32.0);
+    gfmd_sim *s = ts_create_estimate(32, 32, 32.0, 32.0);
     double v = 7.0, a = 7.0;
     assert_int_equal(gfmd_persson_variance(NULL, &v), GFMD_ERR_NULL);
     assert_int_equal(gfmd_persson_variance(s, NULL), GFMD_ERR_NULL);
