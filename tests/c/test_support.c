@@ -107,6 +107,14 @@ int ts_valgrind(void) {
     return preload != NULL && strstr(preload, "vgpreload") != NULL;
 }
 
+int ts_memory_checked(void) {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+    return 1; /* this file is built with the tests' sanitizer flags */
+#else
+    return ts_valgrind();
+#endif
+}
+
 int ts_memory_cap_possible(void) {
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
     return 0; /* this file is built with the tests' sanitizer flags */

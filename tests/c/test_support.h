@@ -44,6 +44,10 @@ int ts_memory_cap_possible(void);
  * runs these tests many times slower, a test that loops over cases of the same code paths may
  * run one case of each path (the native and sanitizer runs take them all); it says which. */
 int ts_valgrind(void);
+/* Whether the test runs under a memory checker: valgrind, or a build with AddressSanitizer or
+ * ThreadSanitizer (whose ctest takes every test too).  A test whose calls another test runs there
+ * at lower cost may skip; it names that test. */
+int ts_memory_checked(void);
 
 /* Relative difference |a - b| / max(|b|, tiny). */
 double ts_rel(double a, double b);
