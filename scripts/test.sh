@@ -39,6 +39,7 @@ kill_tree() {
 }
 # A phase that stops the script (set -e) must not leave a background build or the fuzzer behind it.
 background=()
+declare -A build_pid
 trap 'for pid in "${background[@]}"; do kill_tree "$pid"; done' EXIT
 # build_in_background NAME COMMAND...: runs the command at the lowest priority, its output in
 # build/NAME.log and its exit status in build/NAME.status; build_wait NAME waits for it and
@@ -54,10 +55,12 @@ build_in_background() {
     echo "$status" >"$root/build/$name.status"
   ) &
   background+=($!)
+  build_pid[$name]=$!
 }
 build_wait() {
-  while [ ! -f "$root/build/$1.status" ]; do sleep 1; done
-  if [ "$(cat "$root/build/$1.status")" != 0 ]; then
+  # until its status is written, or its subshell is gone without writing one (killed)
+  while [ ! -f "$root/build/$1.status" ] && kill -0 "${build_pid[$1]}" 2>/dev/null; do sleep 1; done
+  if [ "$(cat "$root/build/$1.status" 2>/dev/null)" != 0 ]; then
     cat "$root/build/$1.log"; echo "build $1: FAILED"; exit 1
   fi
   echo "build $1: done [at $(elapsed)]"
