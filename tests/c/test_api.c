@@ -352,11 +352,7 @@ static void automatic_choice_when_continuing(void **state) {
     if (ts_valgrind()) skip();
     const double pi = acos(-1.0);
     const int64_t sizes[] = {1024, 2048};
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-    const int nsizes = 1;
-#else
-    const int nsizes = 2;
-#endif
+    const int nsizes = ts_memory_checked() ? 1 : 2;
     for (int k = 0; k < nsizes; ++k) {
         const int64_t n = sizes[k];
         gfmd_sim *s = NULL;
