@@ -41,15 +41,16 @@ kill_tree() {
 background=()
 declare -A build_pid
 trap 'for pid in "${background[@]}"; do kill_tree "$pid"; done' EXIT
-# build_in_background NAME COMMAND...: runs the command at the lowest priority, its output in
-# build/NAME.log and its exit status in build/NAME.status; build_wait NAME waits for it and
-# prints the log if it failed (the script stops then, as it does when a foreground build fails).
-build_in_background() {
-  local name="$1"; shift
+# in_background NAME NICENESS COMMAND...: runs the command in the background at that niceness,
+# its output in build/NAME.log and its exit status in build/NAME.status (the builds and the
+# fuzzer); build_wait NAME waits for a build and prints its log if it failed (the script stops
+# then, as it does when a foreground build fails).
+in_background() {
+  local name="$1" niceness="$2"; shift 2
   rm -f "$root/build/$name.status"
   mkdir -p "$root/build"
   (
-    renice -n 19 -p "$BASHPID" >/dev/null # its children (compilers, cmake) inherit it
+    renice -n "$niceness" -p "$BASHPID" >/dev/null # its children (compilers, cmake) inherit it
     status=0
     "$@" >"$root/build/$name.log" 2>&1 || status=$?
     echo "$status" >"$root/build/$name.status"
@@ -71,13 +72,13 @@ cmake -S "$root" -B "$root/build" -DCMAKE_BUILD_TYPE=Release -DGFMD_BUILD_MPI=ON
 cmake --build "$root/build" -j "$jobs"
 if [ "${1:-}" = "--quick" ]; then run_ctest "$root/build"; summary; exit $?; fi
 # (the build functions chain their commands with &&: set -e does not act in a function called
-# from the left of ||, as build_in_background calls them)
+# from the left of ||, as in_background calls them)
 sanitize_build() {
   cmake -S "$root" -B "$root/build-sanitize" -DCMAKE_BUILD_TYPE=Debug -DGFMD_SANITIZE=ON -DGFMD_BUILD_MPI=ON &&
     cmake --build "$root/build-sanitize" -j "$jobs"
 }
 echo "== the AddressSanitizer + UndefinedBehaviorSanitizer build begins in the background [at $(elapsed)]"
-build_in_background sanitize sanitize_build
+in_background sanitize 19 sanitize_build
 run_ctest "$root/build"
 
 echo "== AddressSanitizer + UndefinedBehaviorSanitizer build: the test suite [at $(elapsed)]"
@@ -89,7 +90,7 @@ tsan_build() {
     "$root/scripts/fuzz.sh" --build
 }
 echo "== the ThreadSanitizer and fuzzer builds begin in the background [at $(elapsed)]"
-build_in_background tsan_fuzz tsan_build
+in_background tsan_fuzz 19 tsan_build
 run_ctest "$root/build-sanitize"
 build_wait tsan_fuzz
 
@@ -97,14 +98,7 @@ build_wait tsan_fuzz
 # runs, its output in a log that is printed when it ends. Its exit status goes to a file: the
 # valgrind runs below are waited for with `wait -n`, which may reap the fuzzer too.
 echo "== fuzzing the C API for 60 s (libFuzzer, ASan + UBSan), in the background [at $(elapsed)]"
-rm -f "$root/build/fuzz.status"
-fuzz_in_background() {
-  local status=0
-  "$root/scripts/fuzz.sh" 60 >"$root/build/fuzz.log" 2>&1 || status=$?
-  echo "$status" >"$root/build/fuzz.status"
-}
-fuzz_in_background &
-background+=($!)
+in_background fuzz 0 "$root/scripts/fuzz.sh" 60
 
 echo "== ThreadSanitizer: distinct handles in concurrent threads [at $(elapsed)]"
 if TSAN_OPTIONS=halt_on_error=1 OMP_NUM_THREADS=1 "$root/build-tsan/tests/test_threads"; then
