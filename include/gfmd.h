@@ -185,10 +185,9 @@ GFMD_API int32_t gfmd_set_pressure(gfmd_sim *s, double sigma0);
  * reaching the substrate stopped) and every step keeps it.  A smaller d presses harder.
  * GFMD_ERR_INVALID_ARG if d is not finite or below the substrate's mean height (a body with z >= h
  * cannot have a smaller mean).  gfmd_set_pressure() returns to pressure control.  Works with
- * GFMD_SOLVER_AUTO, GFMD_SOLVER_FIRE, GFMD_SOLVER_CG (without adhesion) and GFMD_SOLVER_VERLET;
- * GFMD_ERR_STATE with GFMD_SOLVER_FIRE_MASS or GFMD_SOLVER_MASS_FIRE (mass weighting stalls
- * with the mean held; gfmd_set_solver() refuses them under displacement control likewise).
- * Checkpoints keep the mode.
+ * every solver (GFMD_SOLVER_CG without adhesion); GFMD_SOLVER_FIRE_MASS then holds the mean in
+ * its preconditioned step, one FFT pair more per step (see gfmd_set_solver()).  Checkpoints keep
+ * the mode.
  */
 GFMD_API int32_t gfmd_set_mean_displacement(gfmd_sim *s, double d);
 
@@ -238,7 +237,9 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * below twice that or 0.15, whichever is lower, GFMD_SOLVER_FIRE above); with adhesion
  * GFMD_SOLVER_MASS_FIRE on a layer on a fluid foundation with f(q_min w) >= 2e4 (W <= 0.5 at 256^2, W <= 4 at 2048^2) at a load where Persson's
  * A/A0 < 0.1, and GFMD_SOLVER_FIRE_MASS there instead if the layer is thin, q_max w < 6, and
- * Persson's A/A0 < 0.02, or thinner, q_max w < 4, at any such load; GFMD_SOLVER_FIRE otherwise; re-chosen whenever the body, the substrate, the
+ * Persson's A/A0 < 0.02, or thinner, q_max w < 4, at any such load; GFMD_SOLVER_FIRE otherwise;
+ * under displacement control, with or without adhesion, GFMD_SOLVER_FIRE_MASS on a layer on a
+ * fluid foundation with f(q_min w) >= 2 (w < 74 a at 256^2) and GFMD_SOLVER_FIRE on other bodies; re-chosen whenever the body, the substrate, the
  * adhesion, the load or the load control changes, at gfmd_reset() and on each grid of
  * gfmd_relax_multilevel() after its start is interpolated (a deformed surface), from the state
  * then; the rule and its measurements are in docs/performance.md;
@@ -262,7 +263,8 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * so gfmd_set_timestep() does not apply) or
  * GFMD_SOLVER_VERLET (damped dynamics).  All share the forces, the wall and the convergence
  * criterion, and reach the same equilibrium.  A step of GFMD_SOLVER_FIRE_MASS costs two FFT pairs
- * instead of one and it needs one byte per point more (GFMD_ERR_NOMEM, nothing changed, if that
+ * instead of one (three under displacement control, where it also writes 8 bytes per point more)
+ * and it needs one byte per point more (GFMD_ERR_NOMEM, nothing changed, if that
  * cannot be had); it pays on thin sheets and at low loads, where it needs 3-7x fewer steps than FIRE
  * (test_cg_reference)
  * (docs/performance.md), GFMD_SOLVER_MASS_FIRE (after every restart of the solver -- a new load,
@@ -271,7 +273,7 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * equilibrium fast and then converges slowly, FIRE finishes fast; the approach steps at the time
  * step of the unmasked modes, longer than GFMD_SOLVER_FIRE_MASS's (measured faster for 100 steps);
  * the count of approach steps is part of the solver's state, so chunks and checkpoints follow one
- * call; like GFMD_SOLVER_FIRE_MASS it needs one byte per point and refuses displacement control).
+ * call; like GFMD_SOLVER_FIRE_MASS it needs one byte per point).
  */
 GFMD_API int32_t gfmd_set_solver(gfmd_sim *s, int32_t solver);
 

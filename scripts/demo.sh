@@ -15,7 +15,7 @@ mkdir -p "$out"
 "$root/build/apps/paper/gfmd_paper" --out "$out" "$@" | tee "$out/study.log"
 gnuplot -e "dir='$out'" "$root/apps/paper/plot_paper.gp"
 # Beyond the paper (Fig. 8): the pull-off of the adhesive sheets under displacement control, on a
-# small grid (64^2: about 1.5 minutes; the thin sheets peel slowly)
+# small grid (64^2: about a minute with the study's sweeps at that size)
 pull="$out/pulloff"
 mkdir -p "$pull"
 "$root/build/apps/paper/gfmd_paper" --n 64 --bandwidth 8 --pulloff --out "$pull" > "$pull/study.log"

@@ -419,7 +419,7 @@ std::unique_ptr<Simulation> Simulation::load(const char *path, const Distributio
             int32_t active = hd.active;
             if (hd.version < 5) active = (hd.solver_fields > 0) ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE;
             if (active == GFMD_SOLVER_AUTO) fail(GFMD_ERR_INVALID_ARG, "AUTO is not a solver that steps");
-            s->set_solver(active);  // the checks of a user's choice (CG and adhesion, mass and displacement)
+            s->set_solver(active);  // the checks of a user's choice (CG and adhesion)
             s->params_.solver = GFMD_SOLVER_AUTO;
         } else if (hd.version >= 5 && hd.active != params.solver) {
             fail(GFMD_ERR_INVALID_ARG, "the solver that steps is not the solver set");

@@ -21,7 +21,7 @@ constexpr int kLambdaIterations = 10;
 }  // namespace
 
 FireMass::FireMass(const FireMass &o)
-    : Solver(o), control_(o.control_), held_(o.held_.size()), floor_(o.floor_), mass_dt_(o.mass_dt_),
+    : Solver(o), control_(o.control_), held_(o.held_.size()), mean_response_(o.mean_response_.size()), floor_(o.floor_), mass_dt_(o.mass_dt_),
       inv_m_(o.inv_m_), bucket_(o.bucket_), estimate_(o.estimate_), lambda_(o.lambda_) {}
 
 std::vector<double> FireMass::state() const {
@@ -136,6 +136,57 @@ double FireMass::masked_lambda(StepContext &c) {
     return lambda;
 }
 
+// Under displacement control mean(z) is held: a step must move the free points without moving
+// their mean.  The acceleration and the velocity are both projected in the metric of the masked
+// preconditioner B = P M^-1 P (P: the free points) onto the free points' zero sum: a = B F - la B 1
+// with la = sum(B F) / sum(B 1), and v - lv B 1 with lv = sum(v) / sum(B 1) (sums over the free
+// points).  B 1, the free points' response to a uniform pull, is one FFT pair more per step.  The
+// acceleration alone (in this metric, in the plain one, or the uniform mode of M^-1 F zeroed) was
+// not enough: FIRE's velocity carries a mean into the step whenever the held set changes, which
+// the projection after the step then takes out of every point; on thin sheets the run stalled far
+// from equilibrium (docs/performance.md, "Mass-weighted FIRE under displacement control").  At
+// equilibrium a = 0 on the free points, so F = la there, and la = 0: the mean pressure makes the
+// free points' forces sum to zero (evaluate_forces).  Returns |a| (a in place of B F).
+double FireMass::hold_mean(StepContext &c, double *a) {
+    const FftGrid &grid = c.grid;
+    const unsigned char *held = held_.data();
+    double *b = mean_response_.data(), *v = c.fields.v.data();
+    grid.for_points([&](int64_t i0, int64_t i1) {
+        for (int64_t i = i0; i < i1; ++i) b[i] = held[i] ? 0.0 : 1.0;
+    });
+    std::complex<double> *work = c.fields.work.data();
+    const double *stiff = c.body.stiffness.data();
+    const int64_t nxh = grid.nxh();
+    const double inv_n = 1.0 / static_cast<double>(grid.real_size()), floor = floor_;
+    grid.forward(b, work);
+    grid.for_mode_rows([&](int64_t r0, int64_t r1) { kernels::use().precondition_modes(work, stiff, r0, r1, nxh, inv_n, floor); });
+    grid.backward(work, b);
+    const auto sums = grid.sum_points<3>([&](int64_t i0, int64_t i1, double *acc) {
+        double sa = 0.0, sb = 0.0, sv = 0.0;
+        for (int64_t i = i0; i < i1; ++i) {
+            sa += held[i] ? 0.0 : a[i];
+            sb += held[i] ? 0.0 : b[i];
+            sv += held[i] ? 0.0 : v[i];
+        }
+        acc[0] += sa;
+        acc[1] += sb;
+        acc[2] += sv;
+    });
+    // sum(B 1) = 1^T B 1 > 0 when any point is free (B is positive definite on the free points)
+    const double la = (sums[1] > 0.0) ? sums[0] / sums[1] : 0.0, lv = (sums[1] > 0.0) ? sums[2] / sums[1] : 0.0;
+    const auto a2 = grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
+        double t = 0.0;
+        for (int64_t i = i0; i < i1; ++i) {
+            const double ai = held[i] ? 0.0 : a[i] - la * b[i];
+            a[i] = ai;
+            v[i] -= held[i] ? 0.0 : lv * b[i];
+            t += ai * ai;
+        }
+        acc[0] += t;
+    });
+    return std::sqrt(a2[0]);
+}
+
 void FireMass::advance(StepContext &c) {
     // FIRE with mass weighting (after Zhou, Moseler & Mueser, PRB 99, 144103 (2019)): each Fourier
     // mode has the inertia m(q) = max(k(q), k_c), so every mode stiffer than the contact spacing's
@@ -194,7 +245,9 @@ void FireMass::advance(StepContext &c) {
         }
     });
     grid.backward(c.fields.work.data(), a);
-    const double a_norm = std::sqrt(a2[0] * static_cast<double>(grid.real_size()));
+    const double a_norm = (c.params.control == kDisplacementControl)
+                              ? hold_mean(c, a)
+                              : std::sqrt(a2[0] * static_cast<double>(grid.real_size()));
 
     // FIRE 1.0 order (Bitzek et al. 2006): mix v towards a with the current |v| (|a| before the
     // mask: steering slightly weaker than FIRE's), then a semi-implicit Euler step; uphill: step

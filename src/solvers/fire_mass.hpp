@@ -14,8 +14,11 @@ class FireMass final : public Solver {
 public:
     // One byte per point: the mask of the points the wall holds.  estimate = false: the step of the
     // unmasked modes (lambda_max = 1), as GFMD_SOLVER_MASS_FIRE's approach takes it (mass_fire.hpp).
+    // Under displacement control one grid-sized field more (hold_mean()), written only then: a
+    // buffer costs memory once written (buffer.hpp).
     explicit FireMass(const FftGrid &grid, bool estimate = true)
-        : held_(static_cast<std::size_t>(grid.local_points())), estimate_(estimate) {}
+        : held_(static_cast<std::size_t>(grid.local_points())),
+          mean_response_(static_cast<std::size_t>(grid.local_points())), estimate_(estimate) {}
     FireMass(const FireMass &o);
     void restart(const Dynamics &) override {
         control_.restart(kFireDtStart);  // a fraction of its own time step, mass_dt_
@@ -37,8 +40,10 @@ public:
 private:
     void update_mass_floor(const StepContext &c);
     double masked_lambda(StepContext &c);
+    double hold_mean(StepContext &c, double *a);
     FireControl control_;
     ByteBuffer held_;  // 1 where the wall holds the body (scratch of one step)
+    RealBuffer mean_response_;  // under displacement control: P M^-1 P 1 (scratch of one step)
     // Masses m(q) = max(k(q), floor_), chosen for the contact-count bucket bucket_
     // (floor(log2(contacts)), -1 = not chosen yet); the time step they allow.
     double floor_ = 0.0, mass_dt_ = 0.0, inv_m_ = 0.0;

@@ -308,7 +308,7 @@ static void automatic_choice(void **state) {
     assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.012, 1e-3, 0), GFMD_SOLVER_FIRE);
     /* the approach's softness threshold f(q_min w) >= 2e4 at 256^2, adhesive: w = 2 (W = 0.5,
      * f = 5.1e4; q_max w = 8.9, not thin: the approach also at the lowest loads) takes it, w = 4
-     * (W = 1, f = 6.4e3) and a thick layer w = 64 (f = 1.1) keep FIRE */
+     * (W = 1, f = 6.4e3) and a thick layer w = 64 (f = 2.6) keep FIRE */
     assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 2.0, 0.002, 1e-3, 0), GFMD_SOLVER_MASS_FIRE);
     assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 2.0, 0.0005, 1e-3, 0), GFMD_SOLVER_MASS_FIRE);
     assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 4.0, 0.002, 1e-3, 0), GFMD_SOLVER_FIRE);
@@ -326,11 +326,19 @@ static void automatic_choice(void **state) {
     /* without adhesion CG on every layer on a fluid foundation: a thick one (w = 64, f = 1.1) too */
     assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 64.0, 0.002, 0.0, 0), GFMD_SOLVER_CG);
     assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 8.0, 0.002, 0.0, 0), GFMD_SOLVER_CG);
-    /* adhesion elsewhere, or displacement control (mass weighting refuses it): FIRE */
+    /* adhesion elsewhere: FIRE */
     assert_int_equal(chosen(128, GFMD_GREEN_HALFSPACE, 0.0, 0.05, 1e-3, 0), GFMD_SOLVER_FIRE);
     assert_int_equal(chosen(128, GFMD_GREEN_LAYER_BONDED, 8.0, 0.05, 1e-3, 0), GFMD_SOLVER_FIRE);
+    /* displacement control: mass-weighted FIRE on a layer on a fluid foundation whose longest wave
+     * is soft, f(q_min w) >= 2 (at 256^2 w < 73.8 a), with or without adhesion; FIRE on a thicker
+     * one (w = 80 a: f = 1.75), on the half-space and on a bonded layer */
+    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.002, 1e-3, 1), GFMD_SOLVER_FIRE_MASS);
+    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.002, 0.0, 1), GFMD_SOLVER_FIRE_MASS);
+    assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 70.0, 0.002, 0.0, 1), GFMD_SOLVER_FIRE_MASS); /* f = 2.17 */
+    assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 80.0, 0.002, 0.0, 1), GFMD_SOLVER_FIRE);
     assert_int_equal(chosen(128, GFMD_GREEN_HALFSPACE, 0.0, 0.05, 0.0, 1), GFMD_SOLVER_FIRE);
-    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.002, 1e-3, 1), GFMD_SOLVER_FIRE);
+    assert_int_equal(chosen(128, GFMD_GREEN_HALFSPACE, 0.0, 0.05, 1e-3, 1), GFMD_SOLVER_FIRE);
+    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_BONDED, 8.0, 0.05, 0.0, 1), GFMD_SOLVER_FIRE);
 }
 
 /* From 2048^2 on, a layer on a fluid foundation without adhesion takes CG for a load that starts
