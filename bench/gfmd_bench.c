@@ -26,6 +26,13 @@
  *                                relaxed once by the default, untimed)
  *   gfmd_bench --big [--sigma0 S] [--threads 2] [--sizes 4096]
  *                                one W = 1 layer from flat to the default tolerance at 4096^2
+ *   gfmd_bench --displacement [--sizes 256] [--widths 0.25,1,4,8,16,0] [--below B] [--adhesion]
+ *                                displacement control: from flat to the mean position B a (default
+ *                                1) below the highest peak, by FIRE, mass-weighted FIRE and the
+ *                                default (its choice), without and with adhesion (--adhesion:
+ *                                with only); the runs fail the program if their A/A0 differ by
+ *                                more than two points or their mean pressures by more than 1e-4
+ *                                of the pressure scale (without adhesion: one equilibrium)
  *
  * --contention: threads on a shared machine.  For each size, a half-space (seed 1, sigma0 = 0.05)
  * is created (planning included) and relaxed from flat to the default tolerance with one thread
@@ -586,6 +593,53 @@ static int first_load_table(const double *sizes, int nsizes, const double *width
     return 0;
 }
 
+/* --displacement: layers on a fluid foundation (and the half-space, W = 0) under displacement
+ * control from flat, by FIRE, mass-weighted FIRE and the default, to the default tolerance. */
+static int displacement_table(const double *sizes, int nsizes, const double *widths, int nwidths, double below,
+                              int adhesive_only) {
+    printf("gfmd %s: displacement control from flat to the mean position %g a below the highest peak, fluid "
+           "foundation (w = 4 W a), H = 0.8, lambda_s = 4a, lambda_r = n a/8, g = 1, seed 2016, one thread, "
+           "FFTW_MEASURE, tol %.0e; adhesion gamma0 = 5e-4, rho = 1\n",
+           gfmd_version(), below, GFMD_DEFAULT_TOL);
+    printf("%5s %7s %4s %-9s | %8s %8s | %9s %14s\n", "n", "W", "adh", "solver", "steps", "s", "A/A0", "mean pressure");
+    const int32_t solvers[3] = {GFMD_SOLVER_FIRE, GFMD_SOLVER_FIRE_MASS, GFMD_SOLVER_AUTO};
+    int bad = 0;
+    for (int a = 0; a < nsizes; ++a)
+        for (int b = 0; b < nwidths; ++b)
+            for (int adh = adhesive_only; adh < 2; ++adh) {
+                double area[3], pressure[3];
+                for (int k = 0; k < 3; ++k) {
+                    const int n = (int)sizes[a];
+                    gfmd_sim *s = bench_body(n, widths[b], 0.05, solvers[k]);
+                    int32_t st = adh ? gfmd_set_adhesion(s, 5e-4, 1.0) : GFMD_OK;
+                    if (st == GFMD_OK) st = gfmd_set_mean_displacement(s, -below); /* max h = 0 */
+                    if (st != GFMD_OK) die(s, st, "displacement body");
+                    int32_t active = -1;
+                    gfmd_get_solver(s, &active);
+                    int64_t steps = 0;
+                    const double t0 = now();
+                    if ((st = gfmd_relax(s, 0.0, 100000000, &steps)) != GFMD_OK) die(s, st, "relax");
+                    const double t = now() - t0;
+                    gfmd_get_contact_area(s, &area[k]);
+                    gfmd_get_mean_pressure(s, &pressure[k]);
+                    char what[32];
+                    snprintf(what, sizeof what, "%s%s", k == 2 ? "auto:" : "", solver_name(active));
+                    printf("%5d %7g %4s %-9s | %8lld %8.2f | %9.6f %14.6e\n", n, widths[b], adh ? "yes" : "no", what,
+                           (long long)steps, t, area[k], pressure[k]);
+                    fflush(stdout);
+                    if (k > 0 && !adh) {
+                        const double scale = fabs(pressure[0]) + 1e-8;
+                        if (fabs(area[k] - area[0]) > 2.0 / ((double)n * n) || fabs(pressure[k] - pressure[0]) > 1e-4 * scale) {
+                            printf("  the runs disagree\n");
+                            bad = 1;
+                        }
+                    }
+                    gfmd_sim_destroy(&s);
+                }
+            }
+    return bad;
+}
+
 /* --big: one point at 4096^2 (or --sizes), a W = 1 layer on a fluid foundation from flat to the
  * default tolerance with the default solver, on --threads threads (default 2): planning and
  * relaxation timed apart. */
@@ -652,9 +706,9 @@ static int contention_table(const double *sizes, int nsizes) {
 int main(int argc, char **argv) {
     double sizes[8] = {256, 512, 1024, 2048}, widths[8] = {0, 0.5, 1, 4};
     int nsizes = 4, nwidths = 4, threads = 1, cg = 1, alt = 1, contention = 0, multilevel = 0, nloads = 0, big = 0,
-        first_load = 0, sweep = 0, verbose = 0, from_given = 0, threads_given = 0, sizes_given = 0, widths_given = 0, sigma0_given = 0, adhesion = 0;
+        first_load = 0, sweep = 0, displacement = 0, verbose = 0, from_given = 0, threads_given = 0, sizes_given = 0, widths_given = 0, sigma0_given = 0, adhesion = 0;
     double loads[8];
-    double cg_seconds = 120.0, sigma0 = 0.05, bonded_nu = NAN, first_tol = 0.0, sweep_from = 0.0;
+    double cg_seconds = 120.0, sigma0 = 0.05, bonded_nu = NAN, first_tol = 0.0, sweep_from = 0.0, below = 1.0;
     int levels = 3, levers = 15;
     int32_t solver = GFMD_SOLVER_AUTO;
     for (int i = 1; i < argc; ++i) {
@@ -662,6 +716,8 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--big")) big = 1;
         else if (!strcmp(argv[i], "--first-load")) first_load = 1;
         else if (!strcmp(argv[i], "--sweep")) sweep = 1;
+        else if (!strcmp(argv[i], "--displacement")) displacement = 1;
+        else if (!strcmp(argv[i], "--below") && i + 1 < argc) below = atof(argv[++i]);
         else if (!strcmp(argv[i], "--verbose")) verbose = 1;
         else if (!strcmp(argv[i], "--from") && i + 1 < argc) sweep_from = atof(argv[++i]), from_given = 1;
         else if (!strcmp(argv[i], "--levels") && i + 1 < argc) levels = atoi(argv[++i]);
@@ -685,10 +741,10 @@ int main(int argc, char **argv) {
                    : !strcmp(argv[i], "auto") ? GFMD_SOLVER_AUTO : !strcmp(argv[i], "mass+fire") ? GFMD_SOLVER_MASS_FIRE : -1;
         } else
             solver = -1;
-        if (solver < 0 || !(sigma0 > 0.0) || levels < 1 || first_tol < 0.0 || levers < 0) {
+        if (solver < 0 || !(sigma0 > 0.0) || levels < 1 || first_tol < 0.0 || levers < 0 || !(below >= 0.0)) {
             fprintf(stderr, "usage: %s [--sizes 256,512,...] [--big] [--widths 0,0.5,1,4] [--threads N] "
                             "[--cg-seconds S] [--no-cg] [--no-alt] [--sigma0 S] [--solver auto|fire|mass|mass+fire|verlet|cg] "
-                            "[--bonded NU] [--adhesion] | --contention | --sweep [--verbose] [--from A] | --loads L,.. | --multilevel | --first-load [--levels L] [--tol T] [--levers fire,mass,multilevel,default] | --big\n", argv[0]);
+                            "[--bonded NU] [--adhesion] | --contention | --sweep [--verbose] [--from A] | --loads L,.. | --multilevel | --first-load [--levels L] [--tol T] [--levers fire,mass,multilevel,default] | --big | --displacement [--below B]\n", argv[0]);
             return 2;
         }
     }
@@ -703,6 +759,11 @@ int main(int argc, char **argv) {
         const double thin[2] = {0.0625, 0.25}, first_sizes[3] = {512, 1024, 2048};
         return first_load_table(sizes_given ? sizes : first_sizes, sizes_given ? nsizes : 3, widths_given ? widths : thin,
                                 widths_given ? nwidths : 2, threads < 1 ? 1 : threads, levels, first_tol, adhesion, levers);
+    }
+    if (displacement) {
+        const double disp_sizes[1] = {256}, disp_widths[6] = {0.25, 1, 4, 8, 16, 0};
+        return displacement_table(sizes_given ? sizes : disp_sizes, sizes_given ? nsizes : 1,
+                                  widths_given ? widths : disp_widths, widths_given ? nwidths : 6, below, adhesion);
     }
     if (from_given && !(sweep_from > 0.0 && sweep_from <= 0.4)) {
         fprintf(stderr, "gfmd_bench: --from takes a Persson area in (0, 0.4]\n");
