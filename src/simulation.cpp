@@ -391,13 +391,15 @@ constexpr double kAutoMassThinnerThickness = 4.0;
 
 // Under displacement control, mass-weighted FIRE on a layer on a fluid foundation whose longest
 // wave is at least this much softer than the half-space's, f(q_min w) >= 2, FIRE otherwise.
-// Measured from flat at 256^2 (H = 0.8, lambda_r = 32, lambda_s = 4; mean position 1 below the
-// highest peak, A/A0 ~ 1e-4; docs/performance.md, "Mass-weighted FIRE under displacement control"):
-// without and with adhesion (gamma0 = 5e-4, rho = 1) w = a 10.2 s against FIRE's 175.5 s and 19.2
-// against 171.0 s, w = 4 a 1.31 against 20.21 and 1.00 against 22.10, w = 16 a 0.79 against 3.47
-// and 0.99 against 3.97, w = 32 a (f = 14) 0.71 against 1.66 and 0.86 against 1.32, w = 64 a
-// (f = 2.6) 0.78 against 1.00 and 0.51 against 0.96; on the half-space (f = 1) as fast as FIRE
-// or slower: 0.77 against 0.53 s, 1.06 against 1.09 s.
+// Measured from flat at 256^2 (gfmd_bench --displacement: the mean position 1 a below the highest
+// peak, A/A0 ~ 1e-5 to 1e-3; docs/performance.md, "Mass-weighted FIRE under displacement
+// control"), seconds without and with adhesion (gamma0 = 5e-4, rho = 1), mass weighting against
+// FIRE: W = 0.25 (f = 4e5) 2.33 against 154.35 and 13.45 against 150.80, W = 1 (6e3) 0.75 against
+// 17.60 and 1.46 against 22.94, W = 4 (100) 0.79 against 2.57 and 0.91 against 3.83, W = 8 (14)
+// 0.48 against 1.29 and 0.53 against 1.28; near the bound either way, W = 16 (2.6) 0.63 against
+// 0.49 and 0.87 against 1.41, the half-space (f = 1) 0.60 against 0.69 and 0.77 against 0.82.  A
+// scratch run on another surface (seed 1) gave the same picture: w = 64 a (f = 2.6) 0.78 against
+// 1.00 and 0.51 against 0.96, the half-space 0.77 against 0.53 and 1.06 against 1.09.
 constexpr double kAutoDisplacementMassSoftness = 2.0;
 
 int32_t Simulation::resolve_solver(int32_t requested) const {
