@@ -505,10 +505,10 @@ static void cg_without_memory(void **state) {
 /* The memory a body needs, as docs/performance.md states it: at most 80 bytes per grid point at its
  * peak (planning with FFTW_MEASURE included) for the default's solver on a half-space (FIRE from
  * 512^2 on), on a layer on a fluid foundation (the preconditioned CG), for mass-weighted FIRE on
- * a thin sheet and for the pressure CG on a bonded layer.  The budget: h, z, v, F and the two saved
+ * a thin sheet (also under displacement control) and for the pressure CG on a bonded layer.  The budget: h, z, v, F and the two saved
  * fields of a call's start (48 B/pt), the complex half spectrum and the stiffness (12 B/pt), a
- * solver's own grid fields (the surface CG: 8 B/pt of scratch, mass-weighted FIRE: a byte, the
- * pressure CG: 16 B/pt) -- 69 to 76 B/pt -- and the process's few MB of FFTW plans and code, 3 B/pt
+ * solver's own grid fields (the surface CG: 8 B/pt of scratch, mass-weighted FIRE: a byte, and
+ * under displacement control 8 B/pt more, the pressure CG: 16 B/pt) -- 69 to 76 B/pt -- and the process's few MB of FFTW plans and code, 3 B/pt
  * at 1024^2; 80 leaves room for neither a third grid-sized field nor a second solver's.  Measured
  * as the rise of the peak resident set (/proc/self/status VmHWM, after resetting it through
  * /proc/self/clear_refs) in a child process, so that no earlier test's memory counts: the first
@@ -525,6 +525,7 @@ typedef struct {
     int32_t kind;
     double width; /* in grid spacings */
     int32_t solver;
+    int displacement; /* 1: under displacement control, 1 a below the highest peak */
 } footprint_case;
 
 /* The rise of the peak resident set over a body's creation and 20 steps, in bytes per point; a
@@ -540,7 +541,8 @@ static double footprint(const void *arg) {
     const int ok = gfmd_generate_selfaffine(s, 0.8, n / 8.0, 4.0, 1.0, 1, GFMD_DIST_UNIFORM) == GFMD_OK &&
              (c->kind != GFMD_GREEN_LAYER_BONDED || gfmd_set_poisson(s, 0.3) == GFMD_OK) &&
              (c->kind == GFMD_GREEN_HALFSPACE || gfmd_set_green(s, c->kind, c->width) == GFMD_OK) &&
-             gfmd_set_solver(s, c->solver) == GFMD_OK && gfmd_set_pressure(s, 0.05) == GFMD_OK;
+             gfmd_set_solver(s, c->solver) == GFMD_OK && gfmd_set_pressure(s, 0.05) == GFMD_OK &&
+             (!c->displacement || gfmd_set_mean_displacement(s, -1.0) == GFMD_OK);
     int64_t k = 0;
     const int32_t st = ok ? gfmd_relax(s, 0.0, 20, &k) : GFMD_ERR_STATE;
     int32_t active = -1;
@@ -549,8 +551,9 @@ static double footprint(const void *arg) {
     const double per_point = (peak - base) * 1024.0 / ((double)n * (double)n);
     gfmd_sim_destroy(&s);
     if (base < 0.0 || peak < 0.0) return -1.0;
-    fprintf(stderr, "%lld^2, Green's function %d, w = %g, solver %d (ran %d): %.1f bytes per point at the peak\n",
-            (long long)n, (int)c->kind, c->width, (int)c->solver, (int)active, per_point);
+    fprintf(stderr, "%lld^2, Green's function %d, w = %g, solver %d (ran %d)%s: %.1f bytes per point at the peak\n",
+            (long long)n, (int)c->kind, c->width, (int)c->solver, (int)active,
+            c->displacement ? " under displacement control" : "", per_point);
     return (st == GFMD_OK || st == GFMD_ERR_NOT_CONVERGED) ? per_point : -1.0;
 }
 
@@ -560,15 +563,18 @@ static void memory_per_point(void **state) {
     FILE *clear = fopen("/proc/self/clear_refs", "w"); /* Linux >= 4.0: the peak can be reset */
     if (clear == NULL) skip();
     fclose(clear);
-    const footprint_case at_1024[3] = {{1024, GFMD_GREEN_HALFSPACE, 0.0, GFMD_SOLVER_AUTO},
-                                       {1024, GFMD_GREEN_LAYER_FLUID, 4.0, GFMD_SOLVER_AUTO},     /* W = 1 */
-                                       {1024, GFMD_GREEN_LAYER_FLUID, 0.25, GFMD_SOLVER_FIRE_MASS}}; /* W = 0.0625 */
-    for (int c = 0; c < 3; ++c) {
+    /* the last: the default's mass-weighted FIRE under displacement control, which writes its
+     * 8 B/pt of the free points' response to a uniform pull (hold_mean) */
+    const footprint_case at_1024[4] = {{1024, GFMD_GREEN_HALFSPACE, 0.0, GFMD_SOLVER_AUTO, 0},
+                                       {1024, GFMD_GREEN_LAYER_FLUID, 4.0, GFMD_SOLVER_AUTO, 0},     /* W = 1 */
+                                       {1024, GFMD_GREEN_LAYER_FLUID, 0.25, GFMD_SOLVER_FIRE_MASS, 0}, /* W = 0.0625 */
+                                       {1024, GFMD_GREEN_LAYER_FLUID, 0.25, GFMD_SOLVER_AUTO, 1}};
+    for (int c = 0; c < 4; ++c) {
         const double per_point = ts_value_in_child(footprint, &at_1024[c]);
         assert_true(per_point >= 0.0);
         assert_true(per_point <= 80.0);
     }
-    footprint_case bonded = {64, GFMD_GREEN_LAYER_BONDED, 8.0, GFMD_SOLVER_CG};
+    footprint_case bonded = {64, GFMD_GREEN_LAYER_BONDED, 8.0, GFMD_SOLVER_CG, 0};
     const double fixed = ts_value_in_child(footprint, &bonded) * 64.0 * 64.0;
     bonded.n = 1024;
     const double rise = ts_value_in_child(footprint, &bonded) * 1024.0 * 1024.0;
