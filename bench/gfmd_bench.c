@@ -26,13 +26,15 @@
  *                                relaxed once by the default, untimed)
  *   gfmd_bench --big [--sigma0 S] [--threads 2] [--sizes 4096]
  *                                one W = 1 layer from flat to the default tolerance at 4096^2
- *   gfmd_bench --displacement [--sizes 256] [--widths 0.25,1,4,8,16,0] [--below B] [--adhesion]
+ *   gfmd_bench --displacement [--sizes 256] [--widths 0.25,1,4,8,16,0] [--below B] [--adhesion] [--bonded NU]
  *                                displacement control: from flat to the mean position B a (default
- *                                1) below the highest peak, by FIRE, mass-weighted FIRE and the
- *                                default (its choice), without and with adhesion (--adhesion:
- *                                with only); the runs fail the program if their A/A0 differ by
- *                                more than two points or their mean pressures by more than 1e-4
- *                                of the pressure scale (without adhesion: one equilibrium)
+ *                                1) below the highest peak, by FIRE, mass-weighted FIRE, the
+ *                                library's CG (without adhesion) and the default (its choice),
+ *                                without and with adhesion (--adhesion: with only), layers on a
+ *                                fluid foundation or bonded (--bonded); the runs fail the program
+ *                                if their A/A0 differ by more than two points or their mean
+ *                                pressures by more than 1e-4 of the pressure scale (without
+ *                                adhesion: one equilibrium)
  *
  * --contention: threads on a shared machine.  For each size, a half-space (seed 1, sigma0 = 0.05)
  * is created (planning included) and relaxed from flat to the default tolerance with one thread
@@ -593,25 +595,39 @@ static int first_load_table(const double *sizes, int nsizes, const double *width
     return 0;
 }
 
-/* --displacement: layers on a fluid foundation (and the half-space, W = 0) under displacement
- * control from flat, by FIRE, mass-weighted FIRE and the default, to the default tolerance. */
+/* --displacement: layers (on a fluid foundation, or bonded with Poisson's ratio nu unless nu is
+ * NaN) and the half-space (W = 0) under displacement control from flat, to the default
+ * tolerance, by FIRE, mass-weighted FIRE, the library's constrained CG (without adhesion: it
+ * refuses adhesion; the reference CG of the other tables prescribes the pressure, not the
+ * position) and the default. */
 static int displacement_table(const double *sizes, int nsizes, const double *widths, int nwidths, double below,
-                              int adhesive_only) {
-    printf("gfmd %s: displacement control from flat to the mean position %g a below the highest peak, fluid "
-           "foundation (w = 4 W a), H = 0.8, lambda_s = 4a, lambda_r = n a/8, g = 1, seed 2016, one thread, "
-           "FFTW_MEASURE, tol %.0e; adhesion gamma0 = 5e-4, rho = 1\n",
-           gfmd_version(), below, GFMD_DEFAULT_TOL);
+                              int adhesive_only, double nu) {
+    const int bonded = !isnan(nu);
+    printf("gfmd %s: displacement control from flat to the mean position %g a below the highest peak, %s (w = 4 W a), "
+           "H = 0.8, lambda_s = 4a, lambda_r = n a/8, g = 1, seed 2016, one thread, FFTW_MEASURE, tol %.0e; "
+           "adhesion gamma0 = 5e-4, rho = 1\n",
+           gfmd_version(), below, bonded ? "layers bonded to a rigid base" : "layers on a fluid foundation",
+           GFMD_DEFAULT_TOL);
+    if (bonded) printf("bonded layers: nu = %g\n", nu);
     printf("%5s %7s %4s %-9s | %8s %8s | %9s %14s\n", "n", "W", "adh", "solver", "steps", "s", "A/A0", "mean pressure");
-    const int32_t solvers[3] = {GFMD_SOLVER_FIRE, GFMD_SOLVER_FIRE_MASS, GFMD_SOLVER_AUTO};
+    enum { kSolvers = 4 };
+    const int32_t solvers[kSolvers] = {GFMD_SOLVER_FIRE, GFMD_SOLVER_FIRE_MASS, GFMD_SOLVER_CG, GFMD_SOLVER_AUTO};
     int bad = 0;
     for (int a = 0; a < nsizes; ++a)
         for (int b = 0; b < nwidths; ++b)
             for (int adh = adhesive_only; adh < 2; ++adh) {
-                double area[3], pressure[3];
-                for (int k = 0; k < 3; ++k) {
+                double area[kSolvers], pressure[kSolvers];
+                for (int k = 0; k < kSolvers; ++k) {
+                    if (adh && solvers[k] == GFMD_SOLVER_CG) continue;
                     const int n = (int)sizes[a];
-                    gfmd_sim *s = bench_body(n, widths[b], 0.05, solvers[k]);
-                    int32_t st = adh ? gfmd_set_adhesion(s, 5e-4, 1.0) : GFMD_OK;
+                    const double W = widths[b];
+                    gfmd_sim *s = bench_body(n, bonded ? 0.0 : W, 0.05, solvers[k]);
+                    int32_t st = GFMD_OK;
+                    if (bonded && W > 0) {
+                        st = gfmd_set_poisson(s, nu);
+                        if (st == GFMD_OK) st = gfmd_set_green(s, GFMD_GREEN_LAYER_BONDED, W * 4.0);
+                    }
+                    if (st == GFMD_OK && adh) st = gfmd_set_adhesion(s, 5e-4, 1.0);
                     if (st == GFMD_OK) st = gfmd_set_mean_displacement(s, -below); /* max h = 0 */
                     if (st != GFMD_OK) die(s, st, "displacement body");
                     int32_t active = -1;
@@ -623,11 +639,11 @@ static int displacement_table(const double *sizes, int nsizes, const double *wid
                     gfmd_get_contact_area(s, &area[k]);
                     gfmd_get_mean_pressure(s, &pressure[k]);
                     char what[32];
-                    snprintf(what, sizeof what, "%s%s", k == 2 ? "auto:" : "", solver_name(active));
-                    printf("%5d %7g %4s %-9s | %8lld %8.2f | %9.6f %14.6e\n", n, widths[b], adh ? "yes" : "no", what,
+                    snprintf(what, sizeof what, "%s%s", solvers[k] == GFMD_SOLVER_AUTO ? "auto:" : "", solver_name(active));
+                    printf("%5d %7g %4s %-9s | %8lld %8.2f | %9.6f %14.6e\n", n, W, adh ? "yes" : "no", what,
                            (long long)steps, t, area[k], pressure[k]);
                     fflush(stdout);
-                    if (k > 0 && !adh) {
+                    if (k > 0 && !adh) { /* one equilibrium without adhesion */
                         const double scale = fabs(pressure[0]) + 1e-8;
                         if (fabs(area[k] - area[0]) > 2.0 / ((double)n * n) || fabs(pressure[k] - pressure[0]) > 1e-4 * scale) {
                             printf("  the runs disagree\n");
@@ -744,7 +760,7 @@ int main(int argc, char **argv) {
         if (solver < 0 || !(sigma0 > 0.0) || levels < 1 || first_tol < 0.0 || levers < 0 || !(below >= 0.0)) {
             fprintf(stderr, "usage: %s [--sizes 256,512,...] [--big] [--widths 0,0.5,1,4] [--threads N] "
                             "[--cg-seconds S] [--no-cg] [--no-alt] [--sigma0 S] [--solver auto|fire|mass|mass+fire|verlet|cg] "
-                            "[--bonded NU] [--adhesion] | --contention | --sweep [--verbose] [--from A] | --loads L,.. | --multilevel | --first-load [--levels L] [--tol T] [--levers fire,mass,multilevel,default] | --big | --displacement [--below B]\n", argv[0]);
+                            "[--bonded NU] [--adhesion] | --contention | --sweep [--verbose] [--from A] | --loads L,.. | --multilevel | --first-load [--levels L] [--tol T] [--levers fire,mass,multilevel,default] | --big | --displacement [--below B] [--bonded NU]\n", argv[0]);
             return 2;
         }
     }
@@ -762,8 +778,13 @@ int main(int argc, char **argv) {
     }
     if (displacement) {
         const double disp_sizes[1] = {256}, disp_widths[6] = {0.25, 1, 4, 8, 16, 0};
+        if (!isnan(bonded_nu) && !(bonded_nu > -1.0 && bonded_nu <= 0.5)) {
+            fprintf(stderr, "gfmd_bench: --bonded needs a Poisson ratio in (-1, 0.5]\n");
+            return 2;
+        }
         return displacement_table(sizes_given ? sizes : disp_sizes, sizes_given ? nsizes : 1,
-                                  widths_given ? widths : disp_widths, widths_given ? nwidths : 6, below, adhesion);
+                                  widths_given ? widths : disp_widths, widths_given ? nwidths : 6, below, adhesion,
+                                  bonded_nu);
     }
     if (from_given && !(sweep_from > 0.0 && sweep_from <= 0.4)) {
         fprintf(stderr, "gfmd_bench: --from takes a Persson area in (0, 0.4]\n");
