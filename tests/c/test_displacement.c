@@ -176,9 +176,10 @@ static void mass_weighted_on_thin_sheets(void **state) {
     const struct {
         double width, below, gamma0;
     } cases[] = {{1.0, 1.0, 0.0}, {1.0, 2.5, 0.0}, {0.25, 2.5, 0.0}, {1.0, 1.0, 5e-4}, {0.25, 2.5, 5e-4}};
-    /* Not under valgrind or the sanitizers: most of its time is FIRE's 6 000-11 000 steps, and the
-     * calls it makes are those pressure_and_displacement_control_agree makes there with both
-     * mass-weighted solvers under displacement control (12 s natively). */
+    /* Not under valgrind or the sanitizers: most of its time is FIRE's 1 500-11 000 steps (most of
+     * this program's native time), and the calls it makes are those
+     * pressure_and_displacement_control_agree makes there with both mass-weighted solvers under
+     * displacement control. */
     if (ts_memory_checked()) skip();
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
         gfmd_sim *r[2] = {NULL, NULL};

@@ -46,7 +46,15 @@ static void setup(gfmd_sim *s, const Case *c) {
     OK(gfmd_set_solver(s, c->solver));
     if (c->gamma0 > 0.0) OK(gfmd_set_adhesion(s, c->gamma0, 1.0));
     OK(gfmd_set_pressure(s, c->sigma0));
-    if (c->below > 0.0) OK(gfmd_set_mean_displacement(s, -c->below));
+    if (c->below > 0.0) {
+        OK(gfmd_set_mean_displacement(s, -c->below));
+        int32_t active = -1;
+        OK(gfmd_get_solver(s, &active));
+        /* the case is there for the mean-holding mass-weighted step: a default that chose
+         * otherwise would leave it untested */
+        CHECK(c->solver != GFMD_SOLVER_AUTO || active == GFMD_SOLVER_FIRE_MASS, "%s: AUTO chose solver %d", c->name,
+              (int)active);
+    }
 }
 
 static void observe(gfmd_sim *s, double *obs) {
