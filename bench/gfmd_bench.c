@@ -26,11 +26,14 @@
  *                                relaxed once by the default, untimed)
  *   gfmd_bench --big [--sigma0 S] [--threads 2] [--sizes 4096]
  *                                one W = 1 layer from flat to the default tolerance at 4096^2
- *   gfmd_bench --displacement [--sizes 256] [--widths 0.25,1,4,8,16,0] [--below B] [--adhesion] [--bonded NU]
+ *   gfmd_bench --displacement [--sizes 256] [--widths 0.25,1,4,8,16,0] [--below B | --gap R]
+ *        [--adhesion | --no-adhesion] [--bonded NU]
  *                                displacement control: from flat to the mean position B a (default
- *                                1) below the highest peak, by FIRE, mass-weighted FIRE, the
+ *                                1) below the highest peak, or R rms heights above the substrate's
+ *                                mean height (--gap), by FIRE, mass-weighted FIRE, the
  *                                library's CG (without adhesion) and the default (its choice),
- *                                without and with adhesion (--adhesion: with only), layers on a
+ *                                without and with adhesion (--adhesion: with only; --no-adhesion:
+ *                                without only), layers on a
  *                                fluid foundation or bonded (--bonded); the runs fail the program
  *                                if their A/A0 differ by more than two points or their mean
  *                                pressures by more than 1e-4 of the pressure scale (without
@@ -600,13 +603,31 @@ static int first_load_table(const double *sizes, int nsizes, const double *width
  * tolerance, by FIRE, mass-weighted FIRE, the library's constrained CG (without adhesion: it
  * refuses adhesion; the reference CG of the other tables prescribes the pressure, not the
  * position) and the default. */
+/* The substrate's mean height plus r times its rms height (the heights read back). */
+static double mean_plus_rms(gfmd_sim *s, int n, double r) {
+    const size_t np = (size_t)n * (size_t)n;
+    double *h = malloc(np * sizeof *h);
+    if (h == NULL) die(s, GFMD_ERR_NOMEM, "heights");
+    const int32_t st = gfmd_get_heights(s, h);
+    if (st != GFMD_OK) die(s, st, "heights");
+    double m = 0.0, m2 = 0.0;
+    for (size_t i = 0; i < np; ++i) m += h[i];
+    m /= (double)np;
+    for (size_t i = 0; i < np; ++i) m2 += (h[i] - m) * (h[i] - m);
+    free(h);
+    return m + r * sqrt(m2 / (double)np);
+}
+
 static int displacement_table(const double *sizes, int nsizes, const double *widths, int nwidths, double below,
-                              int adhesive_only, double nu) {
+                              double gap_rms, int adhesive_only, int plain_only, double nu) {
     const int bonded = !isnan(nu);
-    printf("gfmd %s: displacement control from flat to the mean position %g a below the highest peak, %s (w = 4 W a), "
+    char where[96];
+    if (gap_rms > 0.0) snprintf(where, sizeof where, "%g rms heights above the substrate's mean height", gap_rms);
+    else snprintf(where, sizeof where, "%g a below the highest peak", below);
+    printf("gfmd %s: displacement control from flat to the mean position %s, %s (w = 4 W a), "
            "H = 0.8, lambda_s = 4a, lambda_r = n a/8, g = 1, seed 2016, one thread, FFTW_MEASURE, tol %.0e; "
            "adhesion gamma0 = 5e-4, rho = 1\n",
-           gfmd_version(), below, bonded ? "layers bonded to a rigid base" : "layers on a fluid foundation",
+           gfmd_version(), where, bonded ? "layers bonded to a rigid base" : "layers on a fluid foundation",
            GFMD_DEFAULT_TOL);
     if (bonded) printf("bonded layers: nu = %g\n", nu);
     printf("%5s %7s %4s %-9s | %8s %8s | %9s %14s\n", "n", "W", "adh", "solver", "steps", "s", "A/A0", "mean pressure");
@@ -615,7 +636,7 @@ static int displacement_table(const double *sizes, int nsizes, const double *wid
     int bad = 0;
     for (int a = 0; a < nsizes; ++a)
         for (int b = 0; b < nwidths; ++b)
-            for (int adh = adhesive_only; adh < 2; ++adh) {
+            for (int adh = adhesive_only; adh < (plain_only ? 1 : 2); ++adh) {
                 double area[kSolvers], pressure[kSolvers];
                 for (int k = 0; k < kSolvers; ++k) {
                     if (adh && solvers[k] == GFMD_SOLVER_CG) continue;
@@ -628,7 +649,7 @@ static int displacement_table(const double *sizes, int nsizes, const double *wid
                         if (st == GFMD_OK) st = gfmd_set_green(s, GFMD_GREEN_LAYER_BONDED, W * 4.0);
                     }
                     if (st == GFMD_OK && adh) st = gfmd_set_adhesion(s, 5e-4, 1.0);
-                    if (st == GFMD_OK) st = gfmd_set_mean_displacement(s, -below); /* max h = 0 */
+                    if (st == GFMD_OK) st = gfmd_set_mean_displacement(s, gap_rms > 0.0 ? mean_plus_rms(s, n, gap_rms) : -below);
                     if (st != GFMD_OK) die(s, st, "displacement body");
                     int32_t active = -1;
                     gfmd_get_solver(s, &active);
@@ -722,7 +743,9 @@ static int contention_table(const double *sizes, int nsizes) {
 int main(int argc, char **argv) {
     double sizes[8] = {256, 512, 1024, 2048}, widths[8] = {0, 0.5, 1, 4};
     int nsizes = 4, nwidths = 4, threads = 1, cg = 1, alt = 1, contention = 0, multilevel = 0, nloads = 0, big = 0,
-        first_load = 0, sweep = 0, displacement = 0, verbose = 0, from_given = 0, threads_given = 0, sizes_given = 0, widths_given = 0, sigma0_given = 0, adhesion = 0;
+        first_load = 0, sweep = 0, displacement = 0, verbose = 0, from_given = 0, threads_given = 0, sizes_given = 0, widths_given = 0, sigma0_given = 0, adhesion = 0,
+        no_adhesion = 0;
+    double gap_rms = 0.0;
     double loads[8];
     double cg_seconds = 120.0, sigma0 = 0.05, bonded_nu = NAN, first_tol = 0.0, sweep_from = 0.0, below = 1.0;
     int levels = 3, levers = 15;
@@ -734,6 +757,7 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--sweep")) sweep = 1;
         else if (!strcmp(argv[i], "--displacement")) displacement = 1;
         else if (!strcmp(argv[i], "--below") && i + 1 < argc) below = atof(argv[++i]);
+        else if (!strcmp(argv[i], "--gap") && i + 1 < argc) gap_rms = atof(argv[++i]), gap_rms = gap_rms > 0.0 ? gap_rms : -1.0;
         else if (!strcmp(argv[i], "--verbose")) verbose = 1;
         else if (!strcmp(argv[i], "--from") && i + 1 < argc) sweep_from = atof(argv[++i]), from_given = 1;
         else if (!strcmp(argv[i], "--levels") && i + 1 < argc) levels = atoi(argv[++i]);
@@ -748,6 +772,7 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--loads") && i + 1 < argc) nloads = parse_list(argv[++i], loads, 8);
         else if (!strcmp(argv[i], "--multilevel")) multilevel = 1;
         else if (!strcmp(argv[i], "--adhesion")) adhesion = 1;
+        else if (!strcmp(argv[i], "--no-adhesion")) no_adhesion = 1;
         else if (!strcmp(argv[i], "--bonded") && i + 1 < argc) bonded_nu = atof(argv[++i]);
         else if (!strcmp(argv[i], "--sigma0") && i + 1 < argc) sigma0 = atof(argv[++i]), sigma0_given = 1;
         else if (!strcmp(argv[i], "--solver") && i + 1 < argc) {
@@ -757,10 +782,10 @@ int main(int argc, char **argv) {
                    : !strcmp(argv[i], "auto") ? GFMD_SOLVER_AUTO : !strcmp(argv[i], "mass+fire") ? GFMD_SOLVER_MASS_FIRE : -1;
         } else
             solver = -1;
-        if (solver < 0 || !(sigma0 > 0.0) || levels < 1 || first_tol < 0.0 || levers < 0 || !(below >= 0.0)) {
+        if (solver < 0 || !(sigma0 > 0.0) || levels < 1 || first_tol < 0.0 || levers < 0 || !(below >= 0.0) || gap_rms < 0.0) {
             fprintf(stderr, "usage: %s [--sizes 256,512,...] [--big] [--widths 0,0.5,1,4] [--threads N] "
                             "[--cg-seconds S] [--no-cg] [--no-alt] [--sigma0 S] [--solver auto|fire|mass|mass+fire|verlet|cg] "
-                            "[--bonded NU] [--adhesion] | --contention | --sweep [--verbose] [--from A] | --loads L,.. | --multilevel | --first-load [--levels L] [--tol T] [--levers fire,mass,multilevel,default] | --big | --displacement [--below B] [--bonded NU]\n", argv[0]);
+                            "[--bonded NU] [--adhesion] | --contention | --sweep [--verbose] [--from A] | --loads L,.. | --multilevel | --first-load [--levels L] [--tol T] [--levers fire,mass,multilevel,default] | --big | --displacement [--below B | --gap R] [--no-adhesion] [--bonded NU]\n", argv[0]);
             return 2;
         }
     }
@@ -782,9 +807,13 @@ int main(int argc, char **argv) {
             fprintf(stderr, "gfmd_bench: --bonded needs a Poisson ratio in (-1, 0.5]\n");
             return 2;
         }
+        if (adhesion && no_adhesion) {
+            fprintf(stderr, "gfmd_bench: --adhesion and --no-adhesion exclude each other\n");
+            return 2;
+        }
         return displacement_table(sizes_given ? sizes : disp_sizes, sizes_given ? nsizes : 1,
-                                  widths_given ? widths : disp_widths, widths_given ? nwidths : 6, below, adhesion,
-                                  bonded_nu);
+                                  widths_given ? widths : disp_widths, widths_given ? nwidths : 6, below, gap_rms,
+                                  adhesion, no_adhesion, bonded_nu);
     }
     if (from_given && !(sweep_from > 0.0 && sweep_from <= 0.4)) {
         fprintf(stderr, "gfmd_bench: --from takes a Persson area in (0, 0.4]\n");
