@@ -238,7 +238,10 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * GFMD_SOLVER_MASS_FIRE on a layer on a fluid foundation with f(q_min w) >= 2e4 (W <= 0.5 at 256^2, W <= 4 at 2048^2) at a load where Persson's
  * A/A0 < 0.1, and GFMD_SOLVER_FIRE_MASS there instead if the layer is thin, q_max w < 6, and
  * Persson's A/A0 < 0.02, or thinner, q_max w < 4, at any such load; GFMD_SOLVER_FIRE otherwise;
- * under displacement control, with or without adhesion, GFMD_SOLVER_FIRE_MASS on a layer on a
+ * under displacement control without adhesion GFMD_SOLVER_CG where S sqrt(nx ny) <= 2e5 (a
+ * half-space up to about 530^2, a bonded layer w = 64 a up to about 1700^2, w = 16 a up to about
+ * 6900^2; a layer on a fluid foundation only where its longest wave is nearly a half-space's),
+ * beyond that and with adhesion GFMD_SOLVER_FIRE_MASS on a layer on a
  * fluid foundation with f(q_min w) >= 2 (w < 74 a at 256^2) and GFMD_SOLVER_FIRE on other bodies; re-chosen whenever the body, the substrate, the
  * adhesion, the load or the load control changes, at gfmd_reset() and on each grid of
  * gfmd_relax_multilevel() after its start is interpolated (a deformed surface), from the state

@@ -401,15 +401,40 @@ constexpr double kAutoMassThinnerThickness = 4.0;
 // scratch run on another surface (seed 1) gave the same picture: w = 64 a (f = 2.6) 0.78 against
 // 1.00 and 0.51 against 0.96, the half-space 0.77 against 0.53 and 1.06 against 1.09.
 constexpr double kAutoDisplacementMassSoftness = 2.0;
+// Before that, without adhesion: the library's CG (the surface CG, the mean held) where the long
+// waves are stiff enough for it, S sqrt(N) <= 2e5 with S = k_halfspace(q_max)/k_min as in the
+// pressure CG's bound above (a half-space up to about 530^2, a bonded layer w = 64 a up to about
+// 1700^2, thinner ones at every size measured, a layer on a fluid foundation only where its
+// longest wave is nearly a half-space's).  Its iterations grow faster with the long waves'
+// softness than FIRE's steps.  Measured from flat (gfmd_bench --displacement --no-adhesion --gap
+// 2 and --gap 1: the mean position 2 and 1 rms heights above the substrate's mean, A/A0 ~ 0.01
+// and ~ 0.1; 128^2-2048^2, one thread; docs/performance.md "CG under displacement control"): an
+// iteration took about 1.3 FIRE steps' time (1.28 on the 256^2 half-space, 1.34 on a bonded layer
+// w = 16 a at 2048^2, gap 1: steps are exact, this VM's seconds were not), so
+// CG wins where 1.3 x its iterations < FIRE's steps.  That ratio on the half-space, gap 2 / gap
+// 1: 0.50 / 0.42 at 128^2 (S sqrt(N) = 1.2e4), 0.54 / 0.77 at 256^2 (4.6e4), 0.62 / 1.02 at 512^2
+// (1.9e5), 0.97 / 1.27 at 1024^2 (7.4e5), 1.41 / 2.64 at 2048^2 (3.0e6: 542 and 820 iterations
+// against 501 and 404 steps); on a bonded layer w = 64 a (nu = 0.3, S = 116) 0.49 / 0.43 at
+// 128^2, 0.72 / 1.02 at 1024^2 (1.2e5), 0.96 / 1.19 at 2048^2 (2.4e5); w = 4 a and 16 a (S = 7,
+// 29) 0.18-0.58 at every size; on a layer on a fluid foundation w = 400 a 0.59 / 1.16 at 512^2
+// (f(q_min w) = 1.01, 1.9e5), 0.85 / 1.23 at 1024^2 (f = 1.33, 9.9e5); w = 64 a at 256^2 (f = 2.6,
+// 1.2e5) 0.72 of FIRE's at gap 1 and 0.56 of mass-weighted FIRE's (a step of which took 2.3 FIRE
+// steps' time) at gap 2.  The bound where the ratio at A/A0 ~ 0.1 crosses 1 (1.2e5-2.4e5): beyond it CG
+// lost up to 2.6x, below it at most 1.16x (w = 400 a at 512^2, gap 1: 1.25x in seconds) where it
+// won 0.59-0.62 at gap 2; the win it leaves out, 0.85 at 9.9e5, is smaller than the losses beside.
+constexpr double kAutoDisplacementCgBound = 2e5;
 
 int32_t Simulation::resolve_solver(int32_t requested) const {
     if (requested != GFMD_SOLVER_AUTO) return requested;
+    const bool quadratic = !(params_.gamma0 > 0.0);
+    const double cg_cost =
+        long_wave_softness(grid_, body_, params_.e_star) * std::sqrt(static_cast<double>(grid_.real_size()));
     if (params_.control != kPressureControl) {
+        if (quadratic && cg_cost <= kAutoDisplacementCgBound) return GFMD_SOLVER_CG;
         const bool soft = params_.kind == GFMD_GREEN_LAYER_FLUID &&
                           longest_wave_softness(grid_, body_, params_.e_star) >= kAutoDisplacementMassSoftness;
         return soft ? GFMD_SOLVER_FIRE_MASS : GFMD_SOLVER_FIRE;
     }
-    const bool quadratic = !(params_.gamma0 > 0.0);
     if (params_.kind == GFMD_GREEN_LAYER_FLUID) {
         if (quadratic) {
             const bool big = static_cast<double>(grid_.real_size()) >= kAutoContinueFirePoints;
@@ -433,9 +458,8 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
         return mass ? GFMD_SOLVER_FIRE_MASS : GFMD_SOLVER_MASS_FIRE;
     }
     if (!quadratic) return GFMD_SOLVER_FIRE;
-    const double cost = long_wave_softness(grid_, body_, params_.e_star) * std::sqrt(static_cast<double>(grid_.real_size()));
     const double bound = (params_.kind == GFMD_GREEN_LAYER_BONDED) ? kAutoCgBoundBonded : kAutoCgBound;
-    return (cost <= bound) ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE;
+    return (cg_cost <= bound) ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE;
 }
 
 bool Simulation::surface_flat() const {

@@ -329,16 +329,49 @@ static void automatic_choice(void **state) {
     /* adhesion elsewhere: FIRE */
     assert_int_equal(chosen(128, GFMD_GREEN_HALFSPACE, 0.0, 0.05, 1e-3, 0), GFMD_SOLVER_FIRE);
     assert_int_equal(chosen(128, GFMD_GREEN_LAYER_BONDED, 8.0, 0.05, 1e-3, 0), GFMD_SOLVER_FIRE);
-    /* displacement control: mass-weighted FIRE on a layer on a fluid foundation whose longest wave
-     * is soft, f(q_min w) >= 2 (at 256^2 w < 73.8 a), with or without adhesion; FIRE on a thicker
-     * one (w = 80 a: f = 1.75), on the half-space and on a bonded layer */
-    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.002, 1e-3, 1), GFMD_SOLVER_FIRE_MASS);
+    /* displacement control without adhesion: CG where S sqrt(N) <= 2e5 -- the half-space up to
+     * n = 531 (n = 512: 1.85e5, n = 544: 2.09e5), a bonded coating (w = 8: S = 15; w = 64 at 512^2:
+     * 6.1e4), a layer on a fluid foundation whose longest wave is nearly a half-space's (w = 64 at
+     * 256^2: f(q_min w) = 2.6, 1.2e5; w = 32: f = 14, 6.6e5) -- beyond it mass-weighted FIRE on a
+     * layer on a fluid foundation whose longest wave is soft, f(q_min w) >= 2, FIRE on the others;
+     * with adhesion the same without CG: at 256^2 mass weighting for w < 73.8 a (w = 70 a: f =
+     * 2.17), FIRE on a thicker one (w = 80 a: f = 1.75), on the half-space and on a bonded layer */
+    assert_int_equal(chosen(128, GFMD_GREEN_HALFSPACE, 0.0, 0.05, 0.0, 1), GFMD_SOLVER_CG);
+    assert_int_equal(chosen(512, GFMD_GREEN_HALFSPACE, 0.0, 0.05, 0.0, 1), GFMD_SOLVER_CG);
+    assert_int_equal(chosen(544, GFMD_GREEN_HALFSPACE, 0.0, 0.05, 0.0, 1), GFMD_SOLVER_FIRE);
+    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_BONDED, 8.0, 0.05, 0.0, 1), GFMD_SOLVER_CG);
+    assert_int_equal(chosen(512, GFMD_GREEN_LAYER_BONDED, 64.0, 0.05, 0.0, 1), GFMD_SOLVER_CG);
+    assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 64.0, 0.002, 0.0, 1), GFMD_SOLVER_CG);
+    assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 32.0, 0.002, 0.0, 1), GFMD_SOLVER_FIRE_MASS);
     assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.002, 0.0, 1), GFMD_SOLVER_FIRE_MASS);
-    assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 70.0, 0.002, 0.0, 1), GFMD_SOLVER_FIRE_MASS); /* f = 2.17 */
-    assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 80.0, 0.002, 0.0, 1), GFMD_SOLVER_FIRE);
-    assert_int_equal(chosen(128, GFMD_GREEN_HALFSPACE, 0.0, 0.05, 0.0, 1), GFMD_SOLVER_FIRE);
+    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.002, 1e-3, 1), GFMD_SOLVER_FIRE_MASS);
+    assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 70.0, 0.002, 1e-3, 1), GFMD_SOLVER_FIRE_MASS);
+    assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 80.0, 0.002, 1e-3, 1), GFMD_SOLVER_FIRE);
     assert_int_equal(chosen(128, GFMD_GREEN_HALFSPACE, 0.0, 0.05, 1e-3, 1), GFMD_SOLVER_FIRE);
-    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_BONDED, 8.0, 0.05, 0.0, 1), GFMD_SOLVER_FIRE);
+    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_BONDED, 8.0, 0.05, 1e-3, 1), GFMD_SOLVER_FIRE);
+    /* the choice follows the load's control: a 512^2 half-space (1.9e5) is FIRE's under pressure
+     * control (the pressure CG's bound 4e4), CG's under displacement control, FIRE's again after,
+     * and FIRE's once adhesion is switched on under displacement control */
+    gfmd_sim *c = NULL;
+    int32_t solver = -1;
+    assert_int_equal(gfmd_sim_create_ex(512, 512, 512.0, 512.0, 1, GFMD_PLANNER_ESTIMATE, &c), GFMD_OK);
+    TS_OK(c, gfmd_generate_selfaffine(c, 0.8, 64.0, 4.0, 1.0, 1, GFMD_DIST_UNIFORM));
+    TS_OK(c, gfmd_set_pressure(c, 0.05));
+    TS_OK(c, gfmd_get_solver(c, &solver));
+    assert_int_equal(solver, GFMD_SOLVER_FIRE);
+    TS_OK(c, gfmd_set_mean_displacement(c, -1.0));
+    TS_OK(c, gfmd_get_solver(c, &solver));
+    assert_int_equal(solver, GFMD_SOLVER_CG);
+    TS_OK(c, gfmd_set_adhesion(c, 1e-3, 1.0));
+    TS_OK(c, gfmd_get_solver(c, &solver));
+    assert_int_equal(solver, GFMD_SOLVER_FIRE);
+    TS_OK(c, gfmd_set_adhesion(c, 0.0, 1.0));
+    TS_OK(c, gfmd_get_solver(c, &solver));
+    assert_int_equal(solver, GFMD_SOLVER_CG);
+    TS_OK(c, gfmd_set_pressure(c, 0.05));
+    TS_OK(c, gfmd_get_solver(c, &solver));
+    assert_int_equal(solver, GFMD_SOLVER_FIRE);
+    gfmd_sim_destroy(&c);
 }
 
 /* From 2048^2 on, a layer on a fluid foundation without adhesion takes CG for a load that starts

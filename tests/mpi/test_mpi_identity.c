@@ -50,10 +50,11 @@ static void setup(gfmd_sim *s, const Case *c) {
         OK(gfmd_set_mean_displacement(s, -c->below));
         int32_t active = -1;
         OK(gfmd_get_solver(s, &active));
-        /* the case is there for the mean-holding mass-weighted step: a default that chose
-         * otherwise would leave it untested */
-        CHECK(c->solver != GFMD_SOLVER_AUTO || active == GFMD_SOLVER_FIRE_MASS, "%s: AUTO chose solver %d", c->name,
-              (int)active);
+        /* the cases are there for the mean-holding mass-weighted step (adhesive) and the surface
+         * CG with the mean held (without adhesion): a default that chose otherwise would leave
+         * them untested */
+        const int32_t expected = c->gamma0 > 0.0 ? GFMD_SOLVER_FIRE_MASS : GFMD_SOLVER_CG;
+        CHECK(c->solver != GFMD_SOLVER_AUTO || active == expected, "%s: AUTO chose solver %d", c->name, (int)active);
     }
 }
 
@@ -199,6 +200,8 @@ int main(int argc, char **argv) {
         /* under displacement control AUTO takes mass-weighted FIRE with the mean held on a soft
          * layer: its projection's sums and its third transform across the ranks */
         {"thin sheet w=0.5 AUTO displacement 48x40", 48, 40, GFMD_GREEN_LAYER_FLUID, 0.5, 0.0, GFMD_SOLVER_AUTO, 5e-4, 0.0, 0.3},
+        /* without adhesion on a bonded layer AUTO takes the surface CG with the mean held */
+        {"bonded w=8 nu=0.3 AUTO displacement 40x36", 40, 36, GFMD_GREEN_LAYER_BONDED, 8.0, 0.3, GFMD_SOLVER_AUTO, 0.0, 0.0, 0.3},
         {"half-space AUTO 64x6 (a rank without rows at 4)", 64, 6, GFMD_GREEN_HALFSPACE, 0.0, 0.0, GFMD_SOLVER_AUTO, 0.0, 0.05, 0.0},
         {"fluid layer w=8 FIRE 160x144 (threaded FFT)", 160, 144, GFMD_GREEN_LAYER_FLUID, 8.0, 0.0, GFMD_SOLVER_FIRE, 0.0, 0.02, 0.0},
     };
