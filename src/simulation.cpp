@@ -401,7 +401,7 @@ constexpr double kAutoMassThinnerThickness = 4.0;
 // scratch run on another surface (seed 1) gave the same picture: w = 64 a (f = 2.6) 0.78 against
 // 1.00 and 0.51 against 0.96, the half-space 0.77 against 0.53 and 1.06 against 1.09.
 constexpr double kAutoDisplacementMassSoftness = 2.0;
-// Before that, without adhesion: the library's CG (the surface CG, the mean held) where the long
+// Checked first, without adhesion: the library's CG (the surface CG, the mean held) where the long
 // waves are stiff enough for it, S sqrt(N) <= 2e5 with S = k_halfspace(q_max)/k_min as in the
 // pressure CG's bound above (a half-space up to about 530^2, a bonded layer w = 64 a up to about
 // 1700^2, thinner ones at every size measured, a layer on a fluid foundation only where its
