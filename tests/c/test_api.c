@@ -336,19 +336,35 @@ static void automatic_choice(void **state) {
      * layer on a fluid foundation whose longest wave is soft, f(q_min w) >= 2, FIRE on the others;
      * with adhesion the same without CG: at 256^2 mass weighting for w < 73.8 a (w = 70 a: f =
      * 2.17), FIRE on a thicker one (w = 80 a: f = 1.75), on the half-space and on a bonded layer */
-    assert_int_equal(chosen(128, GFMD_GREEN_HALFSPACE, 0.0, 0.05, 0.0, 1), GFMD_SOLVER_CG);
-    assert_int_equal(chosen(512, GFMD_GREEN_HALFSPACE, 0.0, 0.05, 0.0, 1), GFMD_SOLVER_CG);
-    assert_int_equal(chosen(544, GFMD_GREEN_HALFSPACE, 0.0, 0.05, 0.0, 1), GFMD_SOLVER_FIRE);
-    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_BONDED, 8.0, 0.05, 0.0, 1), GFMD_SOLVER_CG);
-    assert_int_equal(chosen(512, GFMD_GREEN_LAYER_BONDED, 64.0, 0.05, 0.0, 1), GFMD_SOLVER_CG);
-    assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 64.0, 0.002, 0.0, 1), GFMD_SOLVER_CG);
-    assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 32.0, 0.002, 0.0, 1), GFMD_SOLVER_FIRE_MASS);
-    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.002, 0.0, 1), GFMD_SOLVER_FIRE_MASS);
-    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.002, 1e-3, 1), GFMD_SOLVER_FIRE_MASS);
-    assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 70.0, 0.002, 1e-3, 1), GFMD_SOLVER_FIRE_MASS);
-    assert_int_equal(chosen(256, GFMD_GREEN_LAYER_FLUID, 80.0, 0.002, 1e-3, 1), GFMD_SOLVER_FIRE);
-    assert_int_equal(chosen(128, GFMD_GREEN_HALFSPACE, 0.0, 0.05, 1e-3, 1), GFMD_SOLVER_FIRE);
-    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_BONDED, 8.0, 0.05, 1e-3, 1), GFMD_SOLVER_FIRE);
+    const struct {
+        int64_t n;
+        int32_t kind;
+        double width, gamma0;
+        int32_t expected;
+    } under_displacement[] = {
+        {128, GFMD_GREEN_HALFSPACE, 0.0, 0.0, GFMD_SOLVER_CG},
+        {512, GFMD_GREEN_HALFSPACE, 0.0, 0.0, GFMD_SOLVER_CG},
+        {544, GFMD_GREEN_HALFSPACE, 0.0, 0.0, GFMD_SOLVER_FIRE},
+        {128, GFMD_GREEN_LAYER_BONDED, 8.0, 0.0, GFMD_SOLVER_CG},
+        {512, GFMD_GREEN_LAYER_BONDED, 64.0, 0.0, GFMD_SOLVER_CG},
+        {256, GFMD_GREEN_LAYER_FLUID, 64.0, 0.0, GFMD_SOLVER_CG},
+        {256, GFMD_GREEN_LAYER_FLUID, 32.0, 0.0, GFMD_SOLVER_FIRE_MASS},
+        {128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.0, GFMD_SOLVER_FIRE_MASS},
+        {128, GFMD_GREEN_LAYER_FLUID, 1.0, 1e-3, GFMD_SOLVER_FIRE_MASS},
+        {256, GFMD_GREEN_LAYER_FLUID, 70.0, 1e-3, GFMD_SOLVER_FIRE_MASS},
+        {256, GFMD_GREEN_LAYER_FLUID, 80.0, 1e-3, GFMD_SOLVER_FIRE},
+        {128, GFMD_GREEN_HALFSPACE, 0.0, 1e-3, GFMD_SOLVER_FIRE},
+        {128, GFMD_GREEN_LAYER_BONDED, 8.0, 1e-3, GFMD_SOLVER_FIRE},
+    };
+    for (size_t k = 0; k < sizeof under_displacement / sizeof under_displacement[0]; ++k) {
+        const int32_t got = chosen(under_displacement[k].n, under_displacement[k].kind, under_displacement[k].width,
+                                   0.05, under_displacement[k].gamma0, 1);
+        if (got != under_displacement[k].expected)
+            print_error("displacement control, case %zu (n = %lld, body %d, w = %g, gamma0 = %g): solver %d\n", k,
+                        (long long)under_displacement[k].n, (int)under_displacement[k].kind,
+                        under_displacement[k].width, under_displacement[k].gamma0, (int)got);
+        assert_int_equal(got, under_displacement[k].expected);
+    }
     /* the choice follows the load's control: a 512^2 half-space (1.9e5) is FIRE's under pressure
      * control (the pressure CG's bound 4e4), CG's under displacement control, FIRE's again after,
      * and FIRE's once adhesion is switched on under displacement control */
