@@ -225,7 +225,14 @@ static gfmd_run timed_relax_to(gfmd_sim *s, int32_t solver, double sigma0, doubl
         st = gfmd_relax(s, tol, 1, &k);
         if (st != GFMD_OK && st != GFMD_ERR_NOT_CONVERGED) die(s, st, "step");
         if (k == 0) break;
-        if (probe == cap && !(trace = realloc(trace, sizeof(double) * (size_t)(cap *= 2)))) die(s, GFMD_ERR_NOMEM, "trace");
+        if (probe == cap) {
+            double *grown = realloc(trace, sizeof(double) * (size_t)(cap *= 2));
+            if (!grown) {
+                free(trace);
+                die(s, GFMD_ERR_NOMEM, "trace");
+            }
+            trace = grown;
+        }
         gfmd_get_contact_area(s, &trace[probe++]);
     }
     double residual = 1.0;
@@ -408,7 +415,7 @@ static void sweep_choices(const sweep_run *r, int first, char *out, size_t size)
     static const char *const shortnames[] = {"Verlet", "FIRE", "mass", "CG", "auto", "m+FIRE"};
     out[0] = '\0';
     for (int l = first; l < SWEEP_LOADS; ++l) {
-        if (l > first && r->choice[l] == r->choice[l - 1]) continue;
+        if (l > first && l > 0 && r->choice[l] == r->choice[l - 1]) continue;
         const int32_t k = r->choice[l];
         const char *name = k >= 0 && k < 6 ? shortnames[k] : "?";
         const size_t used = strlen(out);
