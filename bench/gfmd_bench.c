@@ -753,6 +753,7 @@ int main(int argc, char **argv) {
         first_load = 0, sweep = 0, displacement = 0, verbose = 0, from_given = 0, threads_given = 0, sizes_given = 0, widths_given = 0, sigma0_given = 0, adhesion = 0,
         no_adhesion = 0;
     double gap_rms = 0.0;
+    int below_given = 0;
     double loads[8];
     double cg_seconds = 120.0, sigma0 = 0.05, bonded_nu = NAN, first_tol = 0.0, sweep_from = 0.0, below = 1.0;
     int levels = 3, levers = 15;
@@ -763,7 +764,7 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--first-load")) first_load = 1;
         else if (!strcmp(argv[i], "--sweep")) sweep = 1;
         else if (!strcmp(argv[i], "--displacement")) displacement = 1;
-        else if (!strcmp(argv[i], "--below") && i + 1 < argc) below = atof(argv[++i]);
+        else if (!strcmp(argv[i], "--below") && i + 1 < argc) below = atof(argv[++i]), below_given = 1;
         else if (!strcmp(argv[i], "--gap") && i + 1 < argc) gap_rms = atof(argv[++i]), gap_rms = gap_rms > 0.0 ? gap_rms : -1.0;
         else if (!strcmp(argv[i], "--verbose")) verbose = 1;
         else if (!strcmp(argv[i], "--from") && i + 1 < argc) sweep_from = atof(argv[++i]), from_given = 1;
@@ -816,6 +817,10 @@ int main(int argc, char **argv) {
         }
         if (adhesion && no_adhesion) {
             fprintf(stderr, "gfmd_bench: --adhesion and --no-adhesion exclude each other\n");
+            return 2;
+        }
+        if (below_given && gap_rms > 0.0) {
+            fprintf(stderr, "gfmd_bench: --below and --gap exclude each other (two ways to set the mean position)\n");
             return 2;
         }
         return displacement_table(sizes_given ? sizes : disp_sizes, sizes_given ? nsizes : 1,
