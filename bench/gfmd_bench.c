@@ -605,11 +605,6 @@ static int first_load_table(const double *sizes, int nsizes, const double *width
     return 0;
 }
 
-/* --displacement: layers (on a fluid foundation, or bonded with Poisson's ratio nu unless nu is
- * NaN) and the half-space (W = 0) under displacement control from flat, to the default
- * tolerance, by FIRE, mass-weighted FIRE, the library's constrained CG (without adhesion: it
- * refuses adhesion; the reference CG of the other tables prescribes the pressure, not the
- * position) and the default. */
 /* The substrate's mean height plus r times its rms height (the heights read back). */
 static double mean_plus_rms(gfmd_sim *s, int n, double r) {
     const size_t np = (size_t)n * (size_t)n;
@@ -625,6 +620,11 @@ static double mean_plus_rms(gfmd_sim *s, int n, double r) {
     return m + r * sqrt(m2 / (double)np);
 }
 
+/* --displacement: layers (on a fluid foundation, or bonded with Poisson's ratio nu unless nu is
+ * NaN) and the half-space (W = 0) under displacement control from flat, to the default
+ * tolerance, by FIRE, mass-weighted FIRE, the library's constrained CG (without adhesion: it
+ * refuses adhesion; the reference CG of the other tables prescribes the pressure, not the
+ * position) and the default. */
 static int displacement_table(const double *sizes, int nsizes, const double *widths, int nwidths, double below,
                               double gap_rms, int adhesive_only, int plain_only, double nu) {
     const int bonded = !isnan(nu);
