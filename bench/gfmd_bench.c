@@ -26,14 +26,15 @@
  *                                relaxed once by the default, untimed)
  *   gfmd_bench --big [--sigma0 S] [--threads 2] [--sizes 4096]
  *                                one W = 1 layer from flat to the default tolerance at 4096^2
- *   gfmd_bench --displacement [--sizes 256] [--widths 0.25,1,4,8,16,0] [--below B | --gap R]
+ *   gfmd_bench --displacement [--sizes 256] [--widths 0.25,1,4,8,16,0] [--below B | --gap R [--positions K]]
  *        [--adhesion | --no-adhesion] [--bonded NU]
  *                                displacement control: from flat to the mean position B a (default
  *                                1) below the highest peak, or R rms heights above the substrate's
  *                                mean height (--gap), by FIRE, mass-weighted FIRE, the
  *                                library's CG (without adhesion) and the default (its choice),
  *                                without and with adhesion (--adhesion: with only; --no-adhesion:
- *                                without only), layers on a
+ *                                without only), then (--positions) K positions each 0.1 rms
+ *                                heights closer, relaxed from the last (a load sweep), layers on a
  *                                fluid foundation or bonded (--bonded); the runs fail the program
  *                                if their A/A0 differ by more than two points or their mean
  *                                pressures by more than 1e-4 of the pressure scale (without
@@ -605,6 +606,13 @@ static int first_load_table(const double *sizes, int nsizes, const double *width
     return 0;
 }
 
+/* Two runs of one non-adhesive problem: A/A0 within two points, the mean pressure within 1e-4 of
+ * its scale. */
+static int same_equilibrium(int n, double area, double area_ref, double pressure, double pressure_ref) {
+    const double scale = fabs(pressure_ref) + 1e-8;
+    return fabs(area - area_ref) <= 2.0 / ((double)n * n) && fabs(pressure - pressure_ref) <= 1e-4 * scale;
+}
+
 /* The substrate's mean height plus r times its rms height (the heights read back). */
 static double mean_plus_rms(gfmd_sim *s, int n, double r) {
     const size_t np = (size_t)n * (size_t)n;
@@ -625,8 +633,38 @@ static double mean_plus_rms(gfmd_sim *s, int n, double r) {
  * tolerance, by FIRE, mass-weighted FIRE, the library's constrained CG (without adhesion: it
  * refuses adhesion; the reference CG of the other tables prescribes the pressure, not the
  * position) and the default. */
-static int displacement_table(const double *sizes, int nsizes, const double *widths, int nwidths, double below,
-                              double gap_rms, int adhesive_only, int plain_only, double nu) {
+typedef struct {
+    double below;      /* the mean position this far below the highest peak ... */
+    double gap_rms;    /* ... or, if > 0, this many rms heights above the substrate's mean */
+    int adhesive_only; /* --adhesion */
+    int plain_only;    /* --no-adhesion */
+    int positions;     /* --positions K: then K positions closer by 0.1 rms heights each */
+    double nu;         /* bonded layers' Poisson ratio, NaN: layers on a fluid foundation */
+} displacement_options;
+
+/* K more mean positions, each 0.1 rms heights closer than the last and relaxed from its
+ * equilibrium (a load sweep): the steps and seconds summed, the last position's A/A0 and mean
+ * pressure. */
+static void displacement_sweep(gfmd_sim *s, int n, double gap_rms, int positions, int64_t *steps, double *seconds,
+                               double *area, double *pressure) {
+    const double mean = mean_plus_rms(s, n, 0.0), rms = mean_plus_rms(s, n, 1.0) - mean;
+    *steps = 0;
+    const double t0 = now();
+    for (int j = 1; j <= positions; ++j) {
+        int64_t k = 0;
+        int32_t st = gfmd_set_mean_displacement(s, mean + (gap_rms - 0.1 * j) * rms);
+        if (st == GFMD_OK) st = gfmd_relax(s, 0.0, 100000000, &k);
+        if (st != GFMD_OK) die(s, st, "sweep");
+        *steps += k;
+    }
+    *seconds = now() - t0;
+    gfmd_get_contact_area(s, area);
+    gfmd_get_mean_pressure(s, pressure);
+}
+
+static int displacement_table(const double *sizes, int nsizes, const double *widths, int nwidths,
+                              const displacement_options *o) {
+    const double nu = o->nu, below = o->below, gap_rms = o->gap_rms;
     const int bonded = !isnan(nu);
     char where[96];
     if (gap_rms > 0.0) snprintf(where, sizeof where, "%g rms heights above the substrate's mean height", gap_rms);
@@ -637,14 +675,17 @@ static int displacement_table(const double *sizes, int nsizes, const double *wid
            gfmd_version(), where, bonded ? "layers bonded to a rigid base" : "layers on a fluid foundation",
            GFMD_DEFAULT_TOL);
     if (bonded) printf("bonded layers: nu = %g\n", nu);
+    if (o->positions > 0)
+        printf("then %d positions, each 0.1 rms heights closer, relaxed from the last (the rows '+%d pos': steps and "
+               "seconds summed, A/A0 and mean pressure of the last)\n", o->positions, o->positions);
     printf("%5s %7s %4s %-9s | %8s %8s | %9s %14s\n", "n", "W", "adh", "solver", "steps", "s", "A/A0", "mean pressure");
     enum { kSolvers = 4 };
     const int32_t solvers[kSolvers] = {GFMD_SOLVER_FIRE, GFMD_SOLVER_FIRE_MASS, GFMD_SOLVER_CG, GFMD_SOLVER_AUTO};
     int bad = 0;
     for (int a = 0; a < nsizes; ++a)
         for (int b = 0; b < nwidths; ++b)
-            for (int adh = adhesive_only; adh < (plain_only ? 1 : 2); ++adh) {
-                double area[kSolvers], pressure[kSolvers];
+            for (int adh = o->adhesive_only; adh < (o->plain_only ? 1 : 2); ++adh) {
+                double area[kSolvers], pressure[kSolvers], last_area[kSolvers], last_pressure[kSolvers];
                 for (int k = 0; k < kSolvers; ++k) {
                     if (adh && solvers[k] == GFMD_SOLVER_CG) continue;
                     const int n = (int)sizes[a];
@@ -671,9 +712,22 @@ static int displacement_table(const double *sizes, int nsizes, const double *wid
                     printf("%5d %7g %4s %-9s | %8lld %8.2f | %9.6f %14.6e\n", n, W, adh ? "yes" : "no", what,
                            (long long)steps, t, area[k], pressure[k]);
                     fflush(stdout);
-                    if (k > 0 && !adh) { /* one equilibrium without adhesion */
-                        const double scale = fabs(pressure[0]) + 1e-8;
-                        if (fabs(area[k] - area[0]) > 2.0 / ((double)n * n) || fabs(pressure[k] - pressure[0]) > 1e-4 * scale) {
+                    if (o->positions > 0) {
+                        int64_t sweep_steps = 0;
+                        double sweep_s = 0.0;
+                        displacement_sweep(s, n, gap_rms, o->positions, &sweep_steps, &sweep_s, &last_area[k],
+                                           &last_pressure[k]);
+                        char label[16];
+                        snprintf(label, sizeof label, "+%d pos", o->positions);
+                        printf("%5d %7g %4s %-9s | %8lld %8.2f | %9.6f %14.6e\n", n, W, adh ? "yes" : "no", label,
+                               (long long)sweep_steps, sweep_s, last_area[k], last_pressure[k]);
+                        fflush(stdout);
+                    }
+                    if (k > 0 && !adh) { /* one equilibrium without adhesion, at each position */
+                        int disagree = !same_equilibrium(n, area[k], area[0], pressure[k], pressure[0]);
+                        if (o->positions > 0)
+                            disagree |= !same_equilibrium(n, last_area[k], last_area[0], last_pressure[k], last_pressure[0]);
+                        if (disagree) {
                             printf("  the runs disagree\n");
                             bad = 1;
                         }
@@ -753,7 +807,7 @@ int main(int argc, char **argv) {
         first_load = 0, sweep = 0, displacement = 0, verbose = 0, from_given = 0, threads_given = 0, sizes_given = 0, widths_given = 0, sigma0_given = 0, adhesion = 0,
         no_adhesion = 0;
     double gap_rms = 0.0;
-    int below_given = 0;
+    int below_given = 0, positions = 0;
     double loads[8];
     double cg_seconds = 120.0, sigma0 = 0.05, bonded_nu = NAN, first_tol = 0.0, sweep_from = 0.0, below = 1.0;
     int levels = 3, levers = 15;
@@ -765,6 +819,7 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--sweep")) sweep = 1;
         else if (!strcmp(argv[i], "--displacement")) displacement = 1;
         else if (!strcmp(argv[i], "--below") && i + 1 < argc) below = atof(argv[++i]), below_given = 1;
+        else if (!strcmp(argv[i], "--positions") && i + 1 < argc) positions = atoi(argv[++i]), positions = positions > 0 ? positions : -1;
         else if (!strcmp(argv[i], "--gap") && i + 1 < argc) gap_rms = atof(argv[++i]), gap_rms = gap_rms > 0.0 ? gap_rms : -1.0;
         else if (!strcmp(argv[i], "--verbose")) verbose = 1;
         else if (!strcmp(argv[i], "--from") && i + 1 < argc) sweep_from = atof(argv[++i]), from_given = 1;
@@ -790,10 +845,10 @@ int main(int argc, char **argv) {
                    : !strcmp(argv[i], "auto") ? GFMD_SOLVER_AUTO : !strcmp(argv[i], "mass+fire") ? GFMD_SOLVER_MASS_FIRE : -1;
         } else
             solver = -1;
-        if (solver < 0 || !(sigma0 > 0.0) || levels < 1 || first_tol < 0.0 || levers < 0 || !(below >= 0.0) || gap_rms < 0.0) {
+        if (solver < 0 || !(sigma0 > 0.0) || levels < 1 || first_tol < 0.0 || levers < 0 || !(below >= 0.0) || gap_rms < 0.0 || positions < 0) {
             fprintf(stderr, "usage: %s [--sizes 256,512,...] [--big] [--widths 0,0.5,1,4] [--threads N] "
                             "[--cg-seconds S] [--no-cg] [--no-alt] [--sigma0 S] [--solver auto|fire|mass|mass+fire|verlet|cg] "
-                            "[--bonded NU] [--adhesion] | --contention | --sweep [--verbose] [--from A] | --loads L,.. | --multilevel | --first-load [--levels L] [--tol T] [--levers fire,mass,multilevel,default] | --big | --displacement [--below B | --gap R] [--no-adhesion] [--bonded NU]\n", argv[0]);
+                            "[--bonded NU] [--adhesion] | --contention | --sweep [--verbose] [--from A] | --loads L,.. | --multilevel | --first-load [--levels L] [--tol T] [--levers fire,mass,multilevel,default] | --big | --displacement [--below B | --gap R [--positions K]] [--no-adhesion] [--bonded NU]\n", argv[0]);
             return 2;
         }
     }
@@ -823,9 +878,14 @@ int main(int argc, char **argv) {
             fprintf(stderr, "gfmd_bench: --below and --gap exclude each other (two ways to set the mean position)\n");
             return 2;
         }
+        if (positions > 0 && !(gap_rms - 0.1 * positions > 0.0)) {
+            fprintf(stderr, "gfmd_bench: --positions K needs --gap R with R > 0.1 K (the last position above the "
+                            "substrate's mean height)\n");
+            return 2;
+        }
+        const displacement_options options = {below, gap_rms, adhesion, no_adhesion, positions, bonded_nu};
         return displacement_table(sizes_given ? sizes : disp_sizes, sizes_given ? nsizes : 1,
-                                  widths_given ? widths : disp_widths, widths_given ? nwidths : 6, below, gap_rms,
-                                  adhesion, no_adhesion, bonded_nu);
+                                  widths_given ? widths : disp_widths, widths_given ? nwidths : 6, &options);
     }
     if (from_given && !(sweep_from > 0.0 && sweep_from <= 0.4)) {
         fprintf(stderr, "gfmd_bench: --from takes a Persson area in (0, 0.4]\n");
