@@ -72,6 +72,9 @@ static void pressure_and_displacement_control_agree(void **state) {
         for (int k = 0; k < 5; ++k) {
             const int32_t solver = solvers[k];
             if (solver == GFMD_SOLVER_CG && body == 2) continue; /* adhesive: CG refuses it */
+            /* under valgrind the non-adhesive bonded layer's calls are those of bodies 0 and 2
+             * (the same solvers, the bonded Green's function): one case per code path there */
+            if (body == 3 && ts_valgrind()) continue;
             const double sigma0 = 0.03;
             gfmd_sim *p = make(body, solver), *d = NULL, *back = NULL;
             TS_OK(p, gfmd_set_pressure(p, sigma0));
