@@ -18,6 +18,20 @@ constexpr double kMassSpacing = 1.0;
 // converged value on the study's thin sheets, 256^2, against 30; it is approached from below, and
 // FIRE's uphill test catches the rest).
 constexpr int kLambdaIterations = 10;
+
+// x <- P op(x) in place: op the Fourier rows' scaling scale_rows(r0, r1) on the work array, P
+// zeroes the points `held` marks (the masked operators of masked_lambda and hold_mean).
+template <class ScaleRows>
+void apply_masked(const FftGrid &grid, double *x, std::complex<double> *work, const unsigned char *held,
+                  ScaleRows scale_rows) {
+    grid.forward(x, work);
+    grid.for_mode_rows(scale_rows);
+    grid.backward(work, x);
+    grid.for_points([&](int64_t i0, int64_t i1) {
+        for (int64_t i = i0; i < i1; ++i)
+            if (held[i]) x[i] = 0.0;
+    });
+}
 }  // namespace
 
 FireMass::FireMass(const FireMass &o)
@@ -100,17 +114,8 @@ double FireMass::masked_lambda(StepContext &c) {
             x[i] = held[i] ? 0.0 : static_cast<double>(r >> 11) * 0x1.0p-53 - 0.5;
         }
     });
-    // x <- P op(x), op the Fourier rows' scaling (K: by k(q); M^-1: the surface CG's
-    // preconditioner, the same inverse masses), in place
-    const auto apply = [&](auto scale_rows) {
-        grid.forward(x, work);
-        grid.for_mode_rows(scale_rows);
-        grid.backward(work, x);
-        grid.for_points([&](int64_t i0, int64_t i1) {
-            for (int64_t i = i0; i < i1; ++i)
-                if (held[i]) x[i] = 0.0;
-        });
-    };
+    // x <- P op(x), op K (by k(q)) or M^-1 (the surface CG's preconditioner, the same inverse masses)
+    const auto apply = [&](auto scale_rows) { apply_masked(grid, x, work, held, scale_rows); };
     const auto norm2 = [&] {
         return grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
             double t = 0.0;
@@ -158,14 +163,14 @@ double FireMass::hold_mean(StepContext &c, double *a) {
     const double *stiff = c.body.stiffness.data();
     const int64_t nxh = grid.nxh();
     const double inv_n = 1.0 / static_cast<double>(grid.real_size()), floor = floor_;
-    grid.forward(b, work);
-    grid.for_mode_rows([&](int64_t r0, int64_t r1) { kernels::use().precondition_modes(work, stiff, r0, r1, nxh, inv_n, floor); });
-    grid.backward(work, b);
+    apply_masked(grid, b, work, held, [&](int64_t r0, int64_t r1) {
+        kernels::use().precondition_modes(work, stiff, r0, r1, nxh, inv_n, floor);
+    });
     const auto sums = grid.sum_points<3>([&](int64_t i0, int64_t i1, double *acc) {
         double sa = 0.0, sb = 0.0, sv = 0.0;
         for (int64_t i = i0; i < i1; ++i) {
             sa += held[i] ? 0.0 : a[i];
-            sb += held[i] ? 0.0 : b[i];
+            sb += b[i];  // zero where held (apply_masked)
             sv += held[i] ? 0.0 : v[i];
         }
         acc[0] += sa;
@@ -179,7 +184,7 @@ double FireMass::hold_mean(StepContext &c, double *a) {
         for (int64_t i = i0; i < i1; ++i) {
             const double ai = held[i] ? 0.0 : a[i] - la * b[i];
             a[i] = ai;
-            v[i] -= held[i] ? 0.0 : lv * b[i];
+            v[i] -= lv * b[i];
             t += ai * ai;
         }
         acc[0] += t;
