@@ -613,8 +613,8 @@ static int same_equilibrium(int n, double area, double area_ref, double pressure
     return fabs(area - area_ref) <= 2.0 / ((double)n * n) && fabs(pressure - pressure_ref) <= 1e-4 * scale;
 }
 
-/* The substrate's mean height plus r times its rms height (the heights read back). */
-static double mean_plus_rms(gfmd_sim *s, int n, double r) {
+/* The substrate's mean and rms height (the heights read back). */
+static void height_stats(gfmd_sim *s, int n, double *mean, double *rms) {
     const size_t np = (size_t)n * (size_t)n;
     double *h = malloc(np * sizeof *h);
     if (h == NULL) die(s, GFMD_ERR_NOMEM, "heights");
@@ -625,14 +625,10 @@ static double mean_plus_rms(gfmd_sim *s, int n, double r) {
     m /= (double)np;
     for (size_t i = 0; i < np; ++i) m2 += (h[i] - m) * (h[i] - m);
     free(h);
-    return m + r * sqrt(m2 / (double)np);
+    *mean = m;
+    *rms = sqrt(m2 / (double)np);
 }
 
-/* --displacement: layers (on a fluid foundation, or bonded with Poisson's ratio nu unless nu is
- * NaN) and the half-space (W = 0) under displacement control from flat, to the default
- * tolerance, by FIRE, mass-weighted FIRE, the library's constrained CG (without adhesion: it
- * refuses adhesion; the reference CG of the other tables prescribes the pressure, not the
- * position) and the default. */
 typedef struct {
     double below;      /* the mean position this far below the highest peak ... */
     double gap_rms;    /* ... or, if > 0, this many rms heights above the substrate's mean */
@@ -645,9 +641,8 @@ typedef struct {
 /* K more mean positions, each 0.1 rms heights closer than the last and relaxed from its
  * equilibrium (a load sweep): the steps and seconds summed, the last position's A/A0 and mean
  * pressure. */
-static void displacement_sweep(gfmd_sim *s, int n, double gap_rms, int positions, int64_t *steps, double *seconds,
-                               double *area, double *pressure) {
-    const double mean = mean_plus_rms(s, n, 0.0), rms = mean_plus_rms(s, n, 1.0) - mean;
+static void displacement_sweep(gfmd_sim *s, double mean, double rms, double gap_rms, int positions, int64_t *steps,
+                               double *seconds, double *area, double *pressure) {
     *steps = 0;
     const double t0 = now();
     for (int j = 1; j <= positions; ++j) {
@@ -662,6 +657,11 @@ static void displacement_sweep(gfmd_sim *s, int n, double gap_rms, int positions
     gfmd_get_mean_pressure(s, pressure);
 }
 
+/* --displacement: layers (on a fluid foundation, or bonded with Poisson's ratio nu unless nu is
+ * NaN) and the half-space (W = 0) under displacement control from flat, to the default
+ * tolerance, by FIRE, mass-weighted FIRE, the library's constrained CG (without adhesion: it
+ * refuses adhesion; the reference CG of the other tables prescribes the pressure, not the
+ * position) and the default. */
 static int displacement_table(const double *sizes, int nsizes, const double *widths, int nwidths,
                               const displacement_options *o) {
     const double nu = o->nu, below = o->below, gap_rms = o->gap_rms;
@@ -697,7 +697,9 @@ static int displacement_table(const double *sizes, int nsizes, const double *wid
                         if (st == GFMD_OK) st = gfmd_set_green(s, GFMD_GREEN_LAYER_BONDED, W * 4.0);
                     }
                     if (st == GFMD_OK && adh) st = gfmd_set_adhesion(s, 5e-4, 1.0);
-                    if (st == GFMD_OK) st = gfmd_set_mean_displacement(s, gap_rms > 0.0 ? mean_plus_rms(s, n, gap_rms) : -below);
+                    double mean = 0.0, rms = 0.0;
+                    if (gap_rms > 0.0) height_stats(s, n, &mean, &rms);
+                    if (st == GFMD_OK) st = gfmd_set_mean_displacement(s, gap_rms > 0.0 ? mean + gap_rms * rms : -below);
                     if (st != GFMD_OK) die(s, st, "displacement body");
                     int32_t active = -1;
                     gfmd_get_solver(s, &active);
@@ -715,7 +717,7 @@ static int displacement_table(const double *sizes, int nsizes, const double *wid
                     if (o->positions > 0) {
                         int64_t sweep_steps = 0;
                         double sweep_s = 0.0;
-                        displacement_sweep(s, n, gap_rms, o->positions, &sweep_steps, &sweep_s, &last_area[k],
+                        displacement_sweep(s, mean, rms, gap_rms, o->positions, &sweep_steps, &sweep_s, &last_area[k],
                                            &last_pressure[k]);
                         char label[16];
                         snprintf(label, sizeof label, "+%d pos", o->positions);
