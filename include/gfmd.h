@@ -198,7 +198,9 @@ GFMD_API int32_t gfmd_get_mean_displacement(const gfmd_sim *s, double *d);
  * The mean pressure the body carries (compressive > 0): sigma0 under pressure control; under
  * displacement control the pressure that balances the body at its prescribed position (the mean
  * elastic and adhesive stress of the points out of contact: at equilibrium, the mean contact
- * pressure minus the mean adhesive pull).
+ * pressure minus the mean adhesive pull).  With no point out of contact (the position at the
+ * substrate's mean: full contact) the least pressure that keeps every point on the substrate, the
+ * limit of the pressure as the last gap closes.
  */
 GFMD_API int32_t gfmd_get_mean_pressure(const gfmd_sim *s, double *p);
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <limits>
 
 #include "kernels.hpp"
 
@@ -47,8 +48,25 @@ ForceState evaluate_forces(const FftGrid &grid, const Params &p, const Body &bod
             acc[1] += n_free;
             acc[2] += s_all;
         });
-        // no point free (full contact): the walls hold everything; the mean stress is the pressure
-        sigma0 = (free_sums[1] > 0.0) ? free_sums[0] / free_sums[1] : free_sums[2] * inv_n;
+        if (free_sums[1] > 0.0) {
+            sigma0 = free_sums[0] / free_sums[1];
+        } else {
+            // No point free (full contact, the prescribed mean at the substrate's): every pressure
+            // that keeps each point pressed onto the wall balances the body.  The least of them,
+            // the largest point stress, is the limit of the free points' mean as the last of them
+            // closes (a mean-position sweep into full contact stays continuous), and leaves no
+            // point pulling away.  The mean of all stresses (about zero: the elastic stress has
+            // no mean) left half the points pulling away, a residual no step can reduce.  Rare:
+            // one pass over the points.
+            const int64_t n_local = grid.local_points();
+            double top = -std::numeric_limits<double>::infinity();
+            for (int64_t i = 0; i < n_local; ++i) {
+                const double fi = f[i] - (adhesive ? adh_coef * std::exp(-(z[i] - h[i]) * inv_rho) : 0.0);
+                top = std::max(top, fi);
+            }
+            grid.reduce_max(&top, 1);
+            sigma0 = top;
+        }
     }
     out.mean_pressure = sigma0;
     double ref = std::fabs(sigma0) + adh_coef;

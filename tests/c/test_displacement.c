@@ -299,6 +299,66 @@ static void no_hysteresis_without_adhesion(void **state) {
     gfmd_sim_destroy(&s);
 }
 
+/* The mean prescribed at the substrate's own mean: the only admissible surface is the substrate
+ * (full contact).  Every solver must find it at once, and the mean pressure it reports must be the
+ * pressure at which full contact sets in, checked by a second path: under pressure control from
+ * flat, a pressure 1e-4 above it gives full contact and one 1e-4 below it leaves points free.
+ * Two substrates: the self-affine one, where the projection onto the mean leaves a point or none
+ * a rounding above the wall, and terraces of heights 0, -1, -2, -3 on equal shares of the points,
+ * whose mean and projection are exact in binary, so that no point is free.  Before the fix the
+ * pressure with no point free was the mean of all point stresses (about zero: the elastic stress
+ * has no mean), half the points pulled away from the wall, and no solver converged (found on a
+ * 72 x 128 half-space). */
+static void full_contact(void **state) {
+    (void)state;
+    const int32_t solvers[5] = {GFMD_SOLVER_VERLET, GFMD_SOLVER_FIRE, GFMD_SOLVER_CG, GFMD_SOLVER_FIRE_MASS,
+                                GFMD_SOLVER_MASS_FIRE};
+    for (int terraces = 0; terraces < 2; ++terraces)
+        for (int body = 0; body < 4; ++body)
+            for (int k = 0; k < 5; ++k) {
+                if (solvers[k] == GFMD_SOLVER_CG && body == 2) continue; /* adhesive: CG refuses it */
+                if (ts_valgrind() && k != 1 && k != 2) continue;     /* FIRE and CG: every code path here */
+                gfmd_sim *s = make(body, solvers[k]);
+                double h[N], hm = 0.0;
+                if (terraces) {
+                    for (int i = 0; i < N; ++i) h[i] = -(double)((i % NX) % 4); /* NX = 48: N/4 points each */
+                    TS_OK(s, gfmd_set_heights(s, h));
+                }
+                TS_OK(s, gfmd_get_heights(s, h));
+                for (int i = 0; i < N; ++i) hm += h[i];
+                hm /= N; /* the terraces: -2880 / 1920 = -1.5 exactly */
+                /* the lowest position the library takes: its own sum of the mean may round above ours */
+                int tries = 0;
+                while (gfmd_set_mean_displacement(s, hm) != GFMD_OK && tries++ < 64) hm = nextafter(hm, INFINITY);
+                assert_true(tries < 64);
+                int64_t steps = -1;
+                TS_OK(s, gfmd_relax(s, TOL, 10000, &steps));
+                double area = 0.0;
+                TS_OK(s, gfmd_get_contact_area(s, &area));
+                const double p = mean_p(s);
+                print_message("%s, body %d solver %d: full contact in %lld steps, A/A0 %.6f, pressure %.10g, d %.17g tries %d\n",
+                              terraces ? "terraces" : "self-affine", body, (int)solvers[k], (long long)steps, area, p, hm, tries);
+                assert_true(steps <= 5); /* nothing is left to relax */
+                if (terraces) assert_true(area == 1.0 && hm == -1.5); /* exact: the branch with no point free */
+                else assert_true(area >= 1.0 - 1.0 / N);              /* every point, or all but a rounding's */
+                assert_true(p > 0.0 && isfinite(p));
+                /* the second path: pressure control from flat, just above and just below */
+                for (int side = 0; side < 2; ++side) {
+                    gfmd_sim *q = NULL;
+                    TS_OK(s, gfmd_sim_clone(s, &q));
+                    TS_OK(q, gfmd_reset(q));
+                    TS_OK(q, gfmd_set_pressure(q, p * (side ? 1.0 - 1e-4 : 1.0 + 1e-4)));
+                    TS_OK(q, gfmd_relax(q, TOL, 1000000, NULL));
+                    double aq = 0.0;
+                    TS_OK(q, gfmd_get_contact_area(q, &aq));
+                    if (side) assert_true(aq < 1.0);
+                    else assert_true(aq == 1.0);
+                    gfmd_sim_destroy(&q);
+                }
+                gfmd_sim_destroy(&s);
+            }
+}
+
 static void constraint_errors_and_checkpoint(void **state) {
     (void)state;
     gfmd_sim *s = make(2, GFMD_SOLVER_FIRE_MASS), *t = NULL;
@@ -351,6 +411,7 @@ int main(void) {
         cmocka_unit_test(mass_weighted_on_thin_sheets),
         cmocka_unit_test(work_equals_energy_change),
         cmocka_unit_test(no_hysteresis_without_adhesion),
+        cmocka_unit_test(full_contact),
         cmocka_unit_test(constraint_errors_and_checkpoint),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
