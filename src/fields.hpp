@@ -29,6 +29,9 @@ struct Fields {
     RealBuffer f;          // force per area on z (elastic + external + adhesive); solvers may reuse it
                            // within a step (evaluate_forces() rewrites it after every step)
     ComplexBuffer work;    // FFT scratch, meaningful only inside one computation
+    // Set by a solver whose last act was grid.forward(z, work) (the surface CG's checked step):
+    // the force evaluation that follows the step takes the transform from work, and clears it.
+    bool work_holds_z = false;
 
     // The body flat at the highest substrate point, at rest.
     void put_flat_at_rest(const FftGrid &grid);

@@ -13,7 +13,8 @@ ForceState evaluate_forces(const FftGrid &grid, const Params &p, const Body &bod
     ForceState out;
     // Elastic stress in Fourier space: sigma(q) = -u(q)/G(q); U_el = (A/2) sum_q |u(q)|^2/G(q)
     // with u(q) = Z(q)/N the normalized coefficients (seed paper, Eqs. 1-3).
-    grid.forward(fields.z.data(), fields.work.data());
+    if (!fields.work_holds_z) grid.forward(fields.z.data(), fields.work.data());
+    fields.work_holds_z = false;
     const int64_t nxh = grid.nxh();
     const double inv_n = 1.0 / static_cast<double>(grid.real_size());
     const double w_last = grid.weight(nxh - 1);  // 1 if the last column is the Nyquist one

@@ -18,17 +18,23 @@ class SurfaceCg {
 public:
     void restart() {
         fresh_ = true;
+        steepest_ = false;
         bucket_ = -1;  // the body may have changed: its floor is recomputed
     }
     void advance(StepContext &c, RealBuffer *scratch);
-    std::vector<double> state() const { return {prev_r2_, fresh_ ? 1.0 : 0.0}; }
+    // fresh is 1, 0, or 2: fresh and the next direction the force itself (a failed step's)
+    std::vector<double> state() const { return {prev_r2_, steepest_ ? 2.0 : fresh_ ? 1.0 : 0.0}; }
     void set_state(const double *s);  // two numbers
 
 private:
+    // Where the wall stopped points, the step from z0 must decrease the energy enough (cg.cpp).
+    template <class Move>
+    void sufficient_decrease(StepContext &c, const double *z0, double alpha, double rt, Move &&move);
     // z_p = M^-1 r on the free points (0 where the wall holds z), returns r.z_p.
     double precondition(const StepContext &c, double *zp);
     double prev_r2_ = 0.0;  // r.r, or r.M^-1 r when preconditioned, of the last iteration
     bool fresh_ = true;
+    bool steepest_ = false;  // the last step failed its check: the next direction is the force
     int bucket_ = -1;        // derived: floor(log2(contacts)) that floor_ belongs to
     double floor_ = 0.0;
 };
