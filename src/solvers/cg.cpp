@@ -191,6 +191,21 @@ constexpr double kArmijo = 1e-4;
 constexpr int kMaxBacktracks = 30;
 }  // namespace
 
+namespace {
+// The smallest step along t at which a point above the wall (z > h) moving down reaches it, if
+// below alpha; else 0.
+double first_contact(const FftGrid &grid, const double *z, const double *h, const double *t, double alpha) {
+    // per point in order, then over the ranks by reduce_max on the negative (exact in any order)
+    double best = alpha;
+    const int64_t n = grid.local_points();
+    for (int64_t i = 0; i < n; ++i)
+        if (t[i] < 0.0 && z[i] > h[i]) best = std::min(best, (h[i] - z[i]) / t[i]);
+    double neg = -best;
+    grid.reduce_max(&neg, 1);
+    return -neg < alpha ? -neg : 0.0;
+}
+}  // namespace
+
 template <class Move>
 void SurfaceCg::sufficient_decrease(StepContext &c, const double *z0, double alpha, double rt, Move &&move) {
     const FftGrid &grid = c.grid;
@@ -238,7 +253,13 @@ void SurfaceCg::sufficient_decrease(StepContext &c, const double *z0, double alp
         // the parabola through E(0) = 0, E'(0) = -slope and E(a) = change
         const double curvature = (change + slope * a) / (a * a);
         const double ratio = curvature > 0.0 ? slope / (2.0 * curvature * a) : 0.5;
-        a *= std::min(0.5, std::max(0.1, ratio));
+        const double shrunk = a * std::min(0.5, std::max(0.1, ratio));
+        // First, the step to where the first point above the wall reaches it, if it is longer:
+        // up to there nothing is projected and the energy is the quadratic that alpha minimizes,
+        // so it decreases (a sheet that floats on a few contacts lands on the next, where the
+        // parabola, blind to the wall, took a tenth of the step again and again: 48 x 40, w = a,
+        // sigma0/(E* g) = 1e-5, 42 iterations against 6 for the unchecked projected steps).
+        a = (k == 0) ? std::max(shrunk, first_contact(grid, z0, c.fields.h.data(), c.fields.v.data(), alpha)) : shrunk;
     }
     grid.for_points([&](int64_t i0, int64_t i1) { std::copy(z0 + i0, z0 + i1, z + i0); });
     steepest_ = true;

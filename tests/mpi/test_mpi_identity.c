@@ -202,6 +202,9 @@ int main(int argc, char **argv) {
         {"thin sheet w=0.5 AUTO displacement 48x40", 48, 40, GFMD_GREEN_LAYER_FLUID, 0.5, 0.0, GFMD_SOLVER_AUTO, 5e-4, 0.0, 0.3},
         /* without adhesion on a bonded layer AUTO takes the surface CG with the mean held */
         {"bonded w=8 nu=0.3 AUTO displacement 40x36", 40, 36, GFMD_GREEN_LAYER_BONDED, 8.0, 0.3, GFMD_SOLVER_AUTO, 0.0, 0.0, 0.3},
+        /* the surface CG on a thin sheet at a low load: its steps checked against the energy
+         * (the saved start, the trial transforms and their reuse by the force evaluation) */
+        {"thin sheet w=1 CG low load 48x40", 48, 40, GFMD_GREEN_LAYER_FLUID, 1.0, 0.0, GFMD_SOLVER_CG, 0.0, 1e-6, 0.0},
         {"half-space AUTO 64x6 (a rank without rows at 4)", 64, 6, GFMD_GREEN_HALFSPACE, 0.0, 0.0, GFMD_SOLVER_AUTO, 0.0, 0.05, 0.0},
         {"fluid layer w=8 FIRE 160x144 (threaded FFT)", 160, 144, GFMD_GREEN_LAYER_FLUID, 8.0, 0.0, GFMD_SOLVER_FIRE, 0.0, 0.02, 0.0},
     };
