@@ -154,7 +154,19 @@ void PolonskyKeer::advance(StepContext &c) {
     // Without a direction (the gap is already uniform over the contact set, e.g. a start that
     // touches one symmetric line) tau would be 0 and no penetrating point could join: they then
     // join with the stiffness of the shortest wave, the stiffest local response the grid has.
-    const double tau = (den > 0.0) ? sums[3] / den : (g_now_ == 0.0 ? c.body.k_max : 0.0);
+    // The same where the sums are rounding (the gap ~1e-19 of converged iterations run on below a
+    // tolerance the forces cannot show): a negative g.t over a den of 3e-53 gave a step of -1e8
+    // that cleared every pressure for good (a 128^2 bonded layer w = 0.3 a at sigma0 = 5e-7, tol
+    // 1e-10, found by a sweep of unseen cases).  So without a positive den and g.t the direction
+    // is dropped on the set (t = 0 there: the pressures stay) and tau is that stiffness.
+    double tau = (den > 0.0) ? sums[3] / den : 0.0;
+    if (!(den > 0.0 && sums[3] > 0.0 && std::isfinite(tau))) {
+        grid.for_points([&](int64_t i0, int64_t i1) {
+            for (int64_t i = i0; i < i1; ++i)
+                if (p[i] > 0.0) t[i] = 0.0;
+        });
+        tau = c.body.k_max;
+    }
     // New pressures: down the direction on the contact set, clipped at zero; points out of
     // contact that penetrate join it (and the next direction starts afresh).
     const auto upd = grid.sum_points<2>([&](int64_t i0, int64_t i1, double *acc) {
@@ -162,9 +174,17 @@ void PolonskyKeer::advance(StepContext &c) {
     });
     conjugate_ = !(upd[1] > 0.0);
     const double n = static_cast<double>(grid.real_size());
+    if (!(upd[0] > 0.0)) {
+        // every pressure cleared and no point joined: the load has nowhere to go, so the
+        // iteration starts again from the uniform load (Polonsky & Keer's start), which carries it
+        grid.for_points([&](int64_t i0, int64_t i1) { std::fill(p + i0, p + i1, c.params.sigma0); });
+        conjugate_ = false;
+        displacement(c, 1.0, true);
+        return;
+    }
     // The new displacement, and the surface of this pressure: on the substrate where it carries
     // pressure (its gap there is zero but for the iteration's error), elsewhere z = max(h, u + c).
-    displacement(c, (upd[0] > 0.0) ? c.params.sigma0 * n / upd[0] : 1.0, true);
+    displacement(c, c.params.sigma0 * n / upd[0], true);
 }
 
 }  // namespace gfmd

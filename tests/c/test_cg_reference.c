@@ -303,6 +303,38 @@ static void low_load_thin_sheet(void **state) {
         if (cases[k].n == 64 || !ts_valgrind()) compare_with_cg(&cases[k]);
 }
 
+/* Polonsky & Keer's iteration run below the tolerance the forces can show: a 128^2 bonded layer
+ * w = 0.3 a (nu = 0) at sigma0 = 5.0000000000000008e-7 (one ulp above 5e-7; sigma0/(E* g) = 1e-5:
+ * two points touch) relaxed to 1e-10.  Its gaps were ~1e-19 by the 23rd iteration, the 24th
+ * divided a negative g.t of 3e-45 by a den of 3e-53 and stepped by tau = -1e8, every pressure
+ * was cleared, and the iteration stayed on an empty contact set for ever (residual 1.0; at 5e-7
+ * itself the rounding went the other way and it converged).  The case depends on this build's
+ * rounding; elsewhere it checks an ordinary convergence.  Against FIRE: the same contact and
+ * mean gap (natively; under valgrind CG only). */
+static void pressure_cg_below_rounding(void **state) {
+    (void)state;
+    double area[2] = {0.0, 0.0}, gap[2] = {0.0, 0.0};
+    const int32_t solvers[2] = {GFMD_SOLVER_CG, GFMD_SOLVER_FIRE};
+    for (int k = 0; k < (ts_valgrind() ? 1 : 2); ++k) {
+        gfmd_sim *s = NULL;
+        assert_int_equal(gfmd_sim_create_ex(128, 128, 128.0, 128.0, 1, GFMD_PLANNER_ESTIMATE, &s), GFMD_OK);
+        TS_OK(s, gfmd_generate_selfaffine(s, 1.0, 32.0, 4.0, 0.05, 1029, GFMD_DIST_UNIFORM));
+        TS_OK(s, gfmd_set_poisson(s, 0.0));
+        TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_BONDED, 0.3));
+        TS_OK(s, gfmd_set_pressure(s, 5.0000000000000008e-07));
+        TS_OK(s, gfmd_set_solver(s, solvers[k]));
+        int64_t steps = 0;
+        TS_OK(s, gfmd_relax(s, 1e-10, k == 0 ? 300 : 100000, &steps)); /* CG: 24 iterations */
+        TS_OK(s, gfmd_get_contact_area(s, &area[k]));
+        TS_OK(s, gfmd_get_mean_gap(s, &gap[k]));
+        print_message("solver %d: %lld steps, A/A0 %.8f, mean gap %.12g\n", (int)solvers[k], (long long)steps, area[k], gap[k]);
+        gfmd_sim_destroy(&s);
+    }
+    assert_true(area[0] > 0.0);
+    /* both at 1e-10 of the pressure scale: the same two points, the gap to 1e-8 relative */
+    if (!ts_valgrind()) assert_true(area[0] == area[1] && ts_rel(gap[0], gap[1]) < 1e-8);
+}
+
 /* The preconditioned surface CG (a layer on a fluid foundation under pressure control) against
  * FIRE on the same body and load: the same equilibrium, and the preconditioner must have earned
  * its extra FFT pair: at most a third of FIRE's steps (here 6.8x and 11x fewer, 399 against 2705
@@ -484,6 +516,7 @@ int main(void) {
         cmocka_unit_test(conjugate_gradients),
         cmocka_unit_test(preconditioned_cg_against_fire),
         cmocka_unit_test(low_load_thin_sheet),
+        cmocka_unit_test(pressure_cg_below_rounding),
         cmocka_unit_test(cg_tests_every_third_iteration),
         cmocka_unit_test(cg_between_tests_not_converged),
         cmocka_unit_test(solvers_agree),
