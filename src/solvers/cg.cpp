@@ -79,7 +79,7 @@ void SurfaceCg::advance(StepContext &c, RealBuffer *scratch) {
     const bool preconditioned = scratch != nullptr && !steepest_;
     const double *__restrict s = preconditioned ? scratch->data() : f;
     const double r2 = preconditioned ? precondition(c, scratch->data()) : fs.f_norm2;
-    double beta = (fresh_ || steepest_ || !(prev_r2_ > 0.0)) ? 0.0 : r2 / prev_r2_;
+    const double beta = (fresh_ || steepest_ || !(prev_r2_ > 0.0)) ? 0.0 : r2 / prev_r2_;
     steepest_ = false;
     const auto direction = [&](double b) {
         return grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
@@ -120,7 +120,6 @@ void SurfaceCg::advance(StepContext &c, RealBuffer *scratch) {
     if (!(rt > 0.0) && beta != 0.0) {
         // t_old dominated and pointed uphill: start again along s (t = s exactly, since t
         // was s + beta t_old, recompute it from scratch).
-        beta = 0.0;
         rt = direction(0.0);
         if (hold_mean) rt = mean_free();
     }
