@@ -305,7 +305,8 @@ void cg_direction(const double *z, const double *h, const double *f, const doubl
     add_lanes(rt, acc);
 }
 
-void cg_move(double *z, const double *h, const double *t, double alpha, bool to_wall, int64_t n, double *acc) {
+void cg_move(double *z, const double *h, const double *t, double alpha, bool to_wall, int64_t n, double *acc,
+             double *save) {
     const Quad zero = {}, one = zero + 1.0;
     const double step = to_wall ? 0.0 : alpha;  // alpha may be infinite when the step goes to the wall
     const QuadMask wall = (zero + (to_wall ? 1.0 : 0.0)) > 0.0;
@@ -317,6 +318,7 @@ void cg_move(double *z, const double *h, const double *t, double alpha, bool to_
         const Quad zn = blend(wall, blend(down, hi, zo), zo + step * ti);
         const QuadMask hit = (zn < hi) | (wall & down);
         stopped[half] += select(hit, one);
+        if (save != nullptr) store_some(full, save + i, zo, m);
         store_some(full, z + i, blend(hit, hi, zn), m);
     });
     add_lanes(stopped, acc);

@@ -50,7 +50,8 @@ struct MassUpdate {
 // preconditioner's Fourier rows *= inv_n / max(k, floor) (also mass-weighted FIRE's M^-1 in its
 // power iteration); cg_restrict, zp = 0 where held and
 // acc[0] += f.zp; cg_direction, t = s + b t where free, 0 where held, and acc[0] += f.t; cg_move,
-// z += alpha t stopped at the wall (to_wall: z = h where t < 0) and acc[0] += the points stopped.
+// z += alpha t stopped at the wall (to_wall: z = h where t < 0) and acc[0] += the points stopped,
+// the z it started from written to save unless save is null (the checked step's undo).
 // Polonsky & Keer's passes (PolonskyKeer, pk.cpp), a point being in the contact set where p > 0,
 // its gap g = (u + a) - h: pk_direction, t = g + beta t in the set, 0 elsewhere; pk_sums, acc[0..3]
 // += the sums over the set of r, t, r t and g t; pk_update, p = max(p - tau t, 0) in the set, -tau g
@@ -76,7 +77,8 @@ struct MassUpdate {
     void cg_restrict(const double *z, const double *h, const double *f, double *zp, int64_t n, double *acc);  \
     void cg_direction(const double *z, const double *h, const double *f, const double *s, double *t, double b, \
                       int64_t n, double *acc);                                                                 \
-    void cg_move(double *z, const double *h, const double *t, double alpha, bool to_wall, int64_t n, double *acc); \
+    void cg_move(double *z, const double *h, const double *t, double alpha, bool to_wall, int64_t n, double *acc, \
+                 double *save);                                                                             \
     void pk_direction(const double *p, const double *u, const double *h, double *t, double a, double beta,     \
                       int64_t n);                                                                              \
     void pk_sums(const double *p, const double *r, const double *t, const double *u, const double *h, double a, \

@@ -145,30 +145,13 @@ void SurfaceCg::advance(StepContext &c, RealBuffer *scratch) {
     // Under pressure control the step is checked where the wall stopped points (below): the
     // start is kept in the scratch, whose preconditioned residual the direction has consumed.
     const bool guard = scratch != nullptr && !hold_mean && !to_wall;
-    const auto move = [&](double a) {
+    // the move; a checked one saves its start in the same pass
+    const auto move = [&](double a, double *save) {
         return grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
-            kernels::use().cg_move(z + i0, h + i0, t + i0, a, to_wall, i1 - i0, acc);
+            kernels::use().cg_move(z + i0, h + i0, t + i0, a, to_wall, i1 - i0, acc, save ? save + i0 : nullptr);
         })[0];
     };
-    double hits = 0.0;
-    if (guard) {
-        // cg_move's step (not to the wall) with the start saved in the same pass
-        double *__restrict z0 = scratch->data();
-        hits = grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
-            double stopped = 0.0;
-#pragma omp simd reduction(+ : stopped)
-            for (int64_t i = i0; i < i1; ++i) {
-                const double zo = z[i], zn = zo + alpha * t[i];
-                const bool hit = zn < h[i];
-                z0[i] = zo;
-                z[i] = hit ? h[i] : zn;
-                stopped += hit ? 1.0 : 0.0;
-            }
-            acc[0] += stopped;
-        })[0];
-    } else {
-        hits = move(alpha);
-    }
+    const double hits = move(alpha, guard ? scratch->data() : nullptr);
     fresh_ = hits > 0.0;
     if (guard && hits > 0.0) sufficient_decrease(c, scratch->data(), alpha, rt, move);
 }
@@ -188,9 +171,7 @@ void SurfaceCg::advance(StepContext &c, RealBuffer *scratch) {
 namespace {
 constexpr double kArmijo = 1e-4;
 constexpr int kMaxBacktracks = 30;
-}  // namespace
 
-namespace {
 // The smallest step along t at which a point above the wall (z > h) moving down reaches it, if
 // below alpha; else 0.
 double first_contact(const FftGrid &grid, const double *z, const double *h, const double *t, double alpha) {
@@ -221,7 +202,7 @@ void SurfaceCg::sufficient_decrease(StepContext &c, const double *z0, double alp
     for (int k = 0; k <= kMaxBacktracks; ++k) {
         if (k > 0) {
             grid.for_points([&](int64_t i0, int64_t i1) { std::copy(z0 + i0, z0 + i1, z + i0); });
-            move(a);
+            move(a, nullptr);
         }
         // the change of the load's work and the first-order prediction, sum (z - z0) and f.(z - z0)
         const auto d = grid.sum_points<2>([&](int64_t i0, int64_t i1, double *acc) {

@@ -160,12 +160,13 @@ void run_cg(const Build &b, const Data &d, int64_t n, std::vector<double> &out) 
     b.cg_mask(d.z.data(), d.h.data(), d.f.data(), zp.data(), n);
     b.cg_restrict(d.z.data(), d.h.data(), d.f.data(), zp2.data(), n, acc);
     b.cg_direction(d.z.data(), d.h.data(), d.f.data(), zp2.data(), t.data(), 0.7, n, acc + 1);
-    b.cg_move(z.data(), d.h.data(), t.data(), HUGE_VAL, true, n, acc + 2);
-    b.cg_move(z.data(), d.h.data(), t.data(), 0.3, false, n, acc + 2);
+    std::vector<double> saved(n);
+    b.cg_move(z.data(), d.h.data(), t.data(), HUGE_VAL, true, n, acc + 2, nullptr);
+    b.cg_move(z.data(), d.h.data(), t.data(), 0.3, false, n, acc + 2, saved.data());
     std::vector<std::complex<double>> work(static_cast<std::size_t>(n));
     for (int64_t i = 0; i < n; ++i) work[i] = {d.f[i], d.v[i]};
     b.precondition_modes(work.data(), d.h.data() /* any positive and negative "stiffness" */, 0, 1, n, 1.0 / 3.0, 0.2);
-    for (const auto *a : {&zp, &zp2, &t, &z}) out.insert(out.end(), a->begin(), a->end());
+    for (const auto *a : {&zp, &zp2, &t, &z, &saved}) out.insert(out.end(), a->begin(), a->end());
     for (const auto &w : work) {
         out.push_back(w.real());
         out.push_back(w.imag());
@@ -205,8 +206,9 @@ struct CgReference {
         lanes_to(lanes, acc);
     }
     void cg_move(double *z, const double *h, const double *t, double alpha, bool to_wall, int64_t n,
-                 double *acc) const {
+                 double *acc, double *save) const {
         for (int64_t i = 0; i < n; ++i) {
+            if (save != nullptr) save[i] = z[i];
             const double zn = to_wall ? (t[i] < 0.0 ? h[i] : z[i]) : z[i] + alpha * t[i];
             const bool hit = zn < h[i] || (to_wall && t[i] < 0.0);
             acc[0] += hit ? 1.0 : 0.0;
