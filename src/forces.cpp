@@ -34,20 +34,20 @@ ForceState evaluate_forces(const FftGrid &grid, const Params &p, const Body &bod
     const double *z = fields.z.data(), *h = fields.h.data();
     double sigma0 = p.sigma0;
     if (p.control == kDisplacementControl) {
-        const auto free_sums = grid.sum_points<4>([&](int64_t i0, int64_t i1, double *acc) {
-            double s_free = 0.0, n_free = 0.0, s_all = 0.0;
-#pragma omp simd reduction(+ : s_free, n_free, s_all)
+        // the elastic and adhesive stress at point i
+        const auto stress = [&](int64_t i) {
+            return f[i] - (adhesive ? adh_coef * std::exp(-(z[i] - h[i]) * inv_rho) : 0.0);
+        };
+        const auto free_sums = grid.sum_points<2>([&](int64_t i0, int64_t i1, double *acc) {
+            double s_free = 0.0, n_free = 0.0;
+#pragma omp simd reduction(+ : s_free, n_free)
             for (int64_t i = i0; i < i1; ++i) {
-                const double g = z[i] - h[i];
-                const double fi = f[i] - (adhesive ? adh_coef * std::exp(-g * inv_rho) : 0.0);
-                const bool free_point = g > 0.0;
-                s_free += free_point ? fi : 0.0;
+                const bool free_point = z[i] > h[i];
+                s_free += free_point ? stress(i) : 0.0;
                 n_free += free_point ? 1.0 : 0.0;
-                s_all += fi;
             }
             acc[0] += s_free;
             acc[1] += n_free;
-            acc[2] += s_all;
         });
         if (free_sums[1] > 0.0) {
             sigma0 = free_sums[0] / free_sums[1];
@@ -61,10 +61,7 @@ ForceState evaluate_forces(const FftGrid &grid, const Params &p, const Body &bod
             // one pass over the points.
             const int64_t n_local = grid.local_points();
             double top = -std::numeric_limits<double>::infinity();
-            for (int64_t i = 0; i < n_local; ++i) {
-                const double fi = f[i] - (adhesive ? adh_coef * std::exp(-(z[i] - h[i]) * inv_rho) : 0.0);
-                top = std::max(top, fi);
-            }
+            for (int64_t i = 0; i < n_local; ++i) top = std::max(top, stress(i));
             grid.reduce_max(&top, 1);
             sigma0 = top;
         }
