@@ -434,6 +434,70 @@ static void cg_state_without_count_resumes(void **state) {
     same_surfaces_then_destroy(a, b);
 }
 
+/* The surface CG's flag in a file (the second number of CG's state): 0 conjugate, 1 fresh (the
+ * next direction the preconditioned force), 2 fresh with the next direction the force itself (a
+ * projected step that failed its energy check was undone; src/solvers/cg.cpp).  The library rarely
+ * saves a 2 (no case of the tests reaches an undone step), so the file is written by hand: each of
+ * the three values loads and relaxes to the equilibrium of the original run, 2 takes another
+ * first step than 1 (the value is read, not dropped), and any other value is refused. */
+static void surface_cg_flag_values(void **state) {
+    (void)state;
+    gfmd_sim *a = ts_create(NX, NY, 40.0, 24.0);
+    TS_OK(a, gfmd_generate_selfaffine(a, 0.8, 12.0, 3.0, 1.0, 21, GFMD_DIST_UNIFORM));
+    TS_OK(a, gfmd_set_green(a, GFMD_GREEN_LAYER_FLUID, 1.0)); /* preconditioned surface CG */
+    TS_OK(a, gfmd_set_solver(a, GFMD_SOLVER_CG));
+    TS_OK(a, gfmd_set_pressure(a, 0.003));
+    TS_OK(a, gfmd_step(a, 3));
+    TS_OK(a, gfmd_sim_save(a, PATH));
+    long n = 0;
+    unsigned char *buf = read_all(PATH, &n);
+    uint32_t k = 0;
+    memcpy(&k, buf + OFF_STATE, 4);
+    assert_int_equal(k, 8);
+    const long flag_at = OFF_STATE + 4 + 8;
+    double saved = -1.0;
+    memcpy(&saved, buf + flag_at, 8);
+    assert_true(saved == 0.0 || saved == 1.0);
+    int64_t steps_a = 0;
+    TS_OK(a, gfmd_relax(a, 1e-10, 100000, &steps_a));
+    double area_a, gap_a;
+    TS_OK(a, gfmd_get_contact_area(a, &area_a));
+    TS_OK(a, gfmd_get_mean_gap(a, &gap_a));
+    double first[3][NX * NY];
+    for (int v = 0; v < 3; ++v) {
+        const double flag = (double)v;
+        memcpy(buf + flag_at, &flag, 8);
+        write_rehashed5(PATH, buf, n, 4);
+        gfmd_sim *b = NULL;
+        char msg[256] = "";
+        if (gfmd_sim_load(PATH, &b, msg, sizeof msg) != GFMD_OK) fail_msg("flag %d: %s", v, msg);
+        TS_OK(b, gfmd_step(b, 1));
+        TS_OK(b, gfmd_get_surface(b, first[v]));
+        int64_t steps_b = 0;
+        TS_OK(b, gfmd_relax(b, 1e-10, 100000, &steps_b));
+        double area_b, gap_b;
+        TS_OK(b, gfmd_get_contact_area(b, &area_b));
+        TS_OK(b, gfmd_get_mean_gap(b, &gap_b));
+        print_message("flag %d: %lld + 1 iterations (the original %lld), A/A0 %.8f, gap %.12g\n", v,
+                      (long long)steps_b, (long long)steps_a, area_b, gap_b);
+        /* both at 1e-10 of the pressure scale: the same contact points, the gap to 1e-8 */
+        assert_true(area_b == area_a && ts_rel(gap_b, gap_a) < 1e-8);
+        if (flag == saved) assert_int_equal(steps_b + 1, steps_a); /* the file as saved: the original run */
+        gfmd_sim_destroy(&b);
+    }
+    assert_memory_not_equal(first[1], first[2], sizeof first[1]);
+    const double bad[] = {3.0, -1.0, 0.5, NAN};
+    for (size_t j = 0; j < sizeof bad / sizeof bad[0]; ++j) {
+        memcpy(buf + flag_at, &bad[j], 8);
+        write_rehashed5("damaged.gfmd", buf, n, 4);
+        expect_refused(GFMD_ERR_FORMAT, "surface CG flag out of range");
+    }
+    free(buf);
+    gfmd_sim_destroy(&a);
+    remove(PATH);
+    remove("damaged.gfmd");
+}
+
 /* A GFMD_SOLVER_MASS_FIRE file written before mass-weighted FIRE kept its frequency estimates per
  * contact bucket (7 numbers of state: the approach's count, the mass-weighted control's 3 and
  * FIRE's 3, instead of 1 + 51 + 3) still loads and resumes bit for bit: the approach keeps the
@@ -519,6 +583,7 @@ int main(void) {
         cmocka_unit_test(auto_choice_survives_restart),
         cmocka_unit_test(cg_restart_is_bit_exact),
         cmocka_unit_test(cg_state_without_count_resumes),
+        cmocka_unit_test(surface_cg_flag_values),
         cmocka_unit_test(mass_fire_state_without_estimates_resumes),
         cmocka_unit_test(forged_headers_are_refused),
         cmocka_unit_test(failed_save_leaves_nothing),
