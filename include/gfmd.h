@@ -363,8 +363,8 @@ GFMD_API int32_t gfmd_relax(gfmd_sim *s, double tol, int64_t max_steps, int64_t 
  * sheet at 2048^2: docs/performance.md).
  * @p steps_taken (may be NULL) receives this grid's steps, @p coarse_steps (may be NULL) those of
  * all coarser grids together.  GFMD_ERR_INVALID_ARG, nothing
- * changed, unless levels >= 1 and nx, ny are divisible by 2^(levels-1) with at least 8 points a
- * side on the coarsest grid; statuses otherwise as gfmd_relax() (a coarse grid that does not
+ * changed, unless levels = 1 (on any grid) or levels > 1 and nx, ny are divisible by 2^(levels-1)
+ * with at least 8 points a side on the coarsest grid; statuses otherwise as gfmd_relax() (a coarse grid that does not
  * converge is still used as the start).  Deterministic: coarse grids are planned with
  * GFMD_PLANNER_ESTIMATE and use the handle's threads.
  */

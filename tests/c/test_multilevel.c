@@ -135,6 +135,24 @@ static void bad_levels_change_nothing(void **state) {
     assert_memory_equal(before, after, sizeof before);
     gfmd_sim_destroy(&a);
     gfmd_sim_destroy(&c);
+    /* on any grid: 64 x 6, whose sides are below 8 points (no coarse grid; it was refused) */
+    a = ts_create(64, 6, 64.0, 6.0);
+    c = ts_create(64, 6, 64.0, 6.0);
+    double thin_a[64 * 6], thin_c[64 * 6];
+    for (int k = 0; k < 2; ++k) {
+        gfmd_sim *t = k == 0 ? a : c;
+        TS_OK(t, gfmd_generate_selfaffine(t, 0.8, 6.0, 3.0, 1.0, 5, GFMD_DIST_UNIFORM));
+        TS_OK(t, gfmd_set_pressure(t, 0.05));
+    }
+    TS_OK(a, gfmd_relax(a, 0.0, 100000, &sa));
+    TS_OK(c, gfmd_relax_multilevel(c, 0.0, 100000, 1, &sc, &coarse));
+    assert_true(sa > 0 && sa == sc && coarse == 0);
+    TS_OK(a, gfmd_get_surface(a, thin_a));
+    TS_OK(c, gfmd_get_surface(c, thin_c));
+    assert_memory_equal(thin_a, thin_c, sizeof thin_a);
+    assert_int_equal(gfmd_relax_multilevel(c, 0.0, 100000, 2, NULL, NULL), GFMD_ERR_INVALID_ARG); /* 32 x 3 */
+    gfmd_sim_destroy(&a);
+    gfmd_sim_destroy(&c);
     gfmd_sim_destroy(&s);
 }
 
