@@ -246,8 +246,8 @@ void SurfaceCg::sufficient_decrease(StepContext &c, const double *z0, double alp
 }
 
 namespace {
-// The preconditioner's floor k_c: the stiffness at the wave vector q_c = min(0.5 q_spacing, 1/w),
-// q_spacing that of the contact points' mean spacing.  Modes longer than the spacing are pinned
+// The preconditioner's floor k_c: the stiffness at the wave vector q_c = min(0.5 q_spacing, 1/w)
+// (at dense contacts 1/w no lower than 0.5 q_spacing / kPcgDenseRatio), q_spacing that of the contact points' mean spacing.  Modes longer than the spacing are pinned
 // by the contacts (as mass-weighted FIRE's mass floor, fire_mass.cpp); on a thick layer the
 // floor stays at or below the wave vector 1/w where the layer turns from half-space to plate.
 // Measured (gfmd_bench --loads 0.002,0.01,0.05, W = 0.0625 ... 10, 256^2-1024^2, from flat):
@@ -256,6 +256,18 @@ namespace {
 // (477 -> 148) and changed the thin sheets' (W <= 1) by 0.68-1.10x (0.5/w and 2/w: worse).
 constexpr double kPcgSpacing = 0.5;
 constexpr double kPcgWidth = 1.0;
+// Where the contacts are dense (their fraction phi >= kPcgDenseArea) the cap at 1/w stops at
+// kPcgDenseRatio below 0.5 q_spacing: there the long waves are pinned by many contacts, and a floor
+// far below their scale made a thick layer's CG slow at high loads (gfmd_bench --loads; 256^2,
+// W = 10, sigma0 = 0.2: 230 iterations against FIRE's 176 steps; 1024^2, W = 10, sigma0 = 0.05:
+// 157).  Measured from flat (H = 0.8, lambda_s = 4a, lambda_r = n a/8, W = 1 ... 40, sigma0 =
+// 0.01 ... 0.5, 256^2, 512^2; 1024^2 W = 1, 4, 10 at 0.05 and 0.2) against the cap alone: 2-14x
+// fewer iterations at A/A0 >= 0.1 (256^2, W = 10, 0.2: 16; 1024^2, W = 10, 0.05: 72, 0.2: 44 against
+// 208), within 1.2x either way below; thin sheets (q_max w < 6, the cap inactive) unchanged.  Ratios
+// 4 and 6 did as well on some rows and up to 1.7x worse on others (a W = 40 layer at low loads,
+// which the phi bound now leaves to the cap); phi at the octave's middle, as the floor's.
+constexpr double kPcgDenseArea = 0.05;
+constexpr double kPcgDenseRatio = 5.0;
 }  // namespace
 
 // M^-1 = 1/max(k(q), k_c) applied to the projected force, then restricted to the free points (a
@@ -272,9 +284,13 @@ double SurfaceCg::precondition(const StepContext &c, double *zp) {
     const int64_t contacts = c.forces.contacts;
     const int bucket = contact_octave(contacts);
     if (bucket != bucket_) {
-        double qc2 = contact_spacing_q2(grid, kPcgSpacing, std::ldexp(std::sqrt(2.0), bucket));
+        const double points = std::ldexp(std::sqrt(2.0), bucket);
+        double qc2 = contact_spacing_q2(grid, kPcgSpacing, points);
         const double w = c.params.width;  // > 0: preconditioned only on a layer
-        qc2 = std::min(qc2, kPcgWidth * kPcgWidth / (w * w));
+        double cap2 = kPcgWidth * kPcgWidth / (w * w);
+        if (points >= kPcgDenseArea * static_cast<double>(grid.real_size()))
+            cap2 = std::max(cap2, qc2 / (kPcgDenseRatio * kPcgDenseRatio));
+        qc2 = std::min(qc2, cap2);
         const double kc = stiffest_mode_within(grid, c.body, qc2);
         floor_ = std::min(std::max(kc, c.body.k_min), c.body.k_max);
         bucket_ = bucket;
