@@ -19,11 +19,12 @@
  *                                (--adhesion: with only), by FIRE, mass-weighted FIRE, the
  *                                multilevel start and the default solver (--levers: those only)
  *   gfmd_bench --sweep [--sizes 2048] [--widths 0.25,1,100] [--threads N]
- *        [--adhesion] [--no-cg] [--verbose] [--from A]
+ *        [--adhesion] [--no-cg] [--verbose] [--from A] [--columns fire,m+fire,mass,cg,auto]
  *                                the study's continuing loads on each body by FIRE, the approach
  *                                then FIRE, mass-weighted FIRE, CG and the default (its choices);
  *                                --from: those at Persson's A/A0 >= A only (the lower ones
- *                                relaxed once by the default, untimed)
+ *                                relaxed once by the default, untimed); --columns: those
+ *                                columns only
  *   gfmd_bench --big [--sigma0 S] [--threads 2] [--sizes 4096]
  *                                one W = 1 layer from flat to the default tolerance at 4096^2
  *   gfmd_bench --displacement [--sizes 256] [--widths 0.25,1,4,8,16,0] [--below B | --gap R [--positions K]]
@@ -424,8 +425,12 @@ static void sweep_choices(const sweep_run *r, int first, char *out, size_t size)
     }
 }
 
+static const char *const sweep_names[SWEEP_SOLVERS] = {"fire", "m+fire", "mass", "cg", "auto"};
+
+/* columns: a bit per column to run (--columns, parse_names on sweep_names), so that a 2048^2
+ * comparison need not run all five */
 static int sweep_table(const double *sizes, int nsizes, const double *widths, int nwidths, int threads, int adhesion,
-                       int cg, int verbose, double from) {
+                       int cg, int verbose, double from, int columns) {
     static const double targets[SWEEP_LOADS] = {0.004, 0.008, 0.016, 0.03, 0.05, 0.08, 0.12, 0.18, 0.27, 0.4};
     static const char *const heads[SWEEP_SOLVERS] = {"FIRE", "m+FIRE", "mass", "CG", "auto"};
     printf("gfmd %s: the study's continuing loads (Persson A/A0 = 0.008 ... 0.4 after the first load 0.004), "
@@ -469,16 +474,20 @@ static int sweep_table(const double *sizes, int nsizes, const double *widths, in
              * solver at every load and that solver has a column, the default is that column's
              * run, not run again */
             int32_t same = -1;
+            sweep_run asked; /* the choices asked of s (printed whether or not the auto column runs) */
+            memset(&asked, 0, sizeof asked);
             for (int l = first; l < SWEEP_LOADS; ++l) {
                 int32_t choice = -1;
                 if ((st = gfmd_set_pressure(s, loads[l])) != GFMD_OK) die(s, st, "pressure");
                 gfmd_get_solver(s, &choice);
+                asked.choice[l] = choice;
                 same = l == first ? choice : same == choice ? same : -2;
             }
             sweep_run runs[SWEEP_SOLVERS];
+            memset(runs, 0, sizeof runs);
             for (int k = 0; k < SWEEP_SOLVERS; ++k) {
                 runs[k].total = -1;
-                if (solvers[k] == GFMD_SOLVER_CG && (adhesion || !cg)) continue;
+                if (!(columns & (1 << k)) || (solvers[k] == GFMD_SOLVER_CG && (adhesion || !cg))) continue;
                 for (int j = 0; j < k && solvers[k] == GFMD_SOLVER_AUTO; ++j)
                     if (runs[j].total >= 0 && solvers[j] == same) {
                         runs[k] = runs[j];
@@ -488,7 +497,7 @@ static int sweep_table(const double *sizes, int nsizes, const double *widths, in
             }
             gfmd_sim_destroy(&s);
             char chose[64];
-            sweep_choices(&runs[SWEEP_SOLVERS - 1], first, chose, sizeof chose);
+            sweep_choices(&asked, first, chose, sizeof chose);
             printf("%5d %7g %9.3g |", n, W, f);
             for (int k = 0; k < SWEEP_SOLVERS; ++k)
                 if (runs[k].total < 0)
@@ -506,10 +515,12 @@ static int sweep_table(const double *sizes, int nsizes, const double *widths, in
             fflush(stdout);
             /* all stop at the default tolerance of the force residual, not in the same state: their
              * contact sets may differ by a few points (1 % is 40 points of 64^2 at A/A0 ~ 0.1) */
-            for (int k = 1; k < SWEEP_SOLVERS; ++k)
-                if (runs[k].total >= 0 && !(fabs(runs[k].area - runs[0].area) <= 0.01 * runs[0].area)) {
+            int ref = 0; /* the first column run */
+            while (ref < SWEEP_SOLVERS - 1 && runs[ref].total < 0) ++ref;
+            for (int k = ref + 1; k < SWEEP_SOLVERS; ++k)
+                if (runs[k].total >= 0 && !(fabs(runs[k].area - runs[ref].area) <= 0.01 * runs[ref].area)) {
                     fprintf(stderr, "gfmd_bench: the solvers disagree on A/A0 at the last load (%s %.5f, %s %.5f)\n",
-                            heads[0], runs[0].area, heads[k], runs[k].area);
+                            heads[ref], runs[ref].area, heads[k], runs[k].area);
                     return 1;
                 }
         }
@@ -528,16 +539,17 @@ static int sweep_table(const double *sizes, int nsizes, const double *widths, in
  * per lever to run (parse_levers), so that a 2048^2 comparison need not run all eight rows. */
 static const char *const lever_names[4] = {"fire", "mass", "multilevel", "default"};
 
-/* --levers LIST: a bit per lever of first_load_table, in lever_names' order; -1 for a name not
- * there or an empty list */
-static int parse_levers(const char *list) {
+/* --levers LIST (first_load_table's levers, lever_names) and --columns LIST (sweep_table's
+ * columns, sweep_names): a bit per name, in the order of names[0..count); -1 for a name not there
+ * or an empty list */
+static int parse_names(const char *list, const char *const *names, int count) {
     int mask = 0;
     while (*list) {
         const char *end = strchr(list, ',');
         const size_t len = end ? (size_t)(end - list) : strlen(list);
         int bit = -1;
-        for (int k = 0; k < 4; ++k)
-            if (strlen(lever_names[k]) == len && !strncmp(list, lever_names[k], len)) bit = k;
+        for (int k = 0; k < count; ++k)
+            if (strlen(names[k]) == len && !strncmp(list, names[k], len)) bit = k;
         if (bit < 0) return -1;
         mask |= 1 << bit;
         list += len + (end ? 1 : 0);
@@ -812,7 +824,7 @@ int main(int argc, char **argv) {
     int below_given = 0, positions = 0;
     double loads[8];
     double cg_seconds = 120.0, sigma0 = 0.05, bonded_nu = NAN, first_tol = 0.0, sweep_from = 0.0, below = 1.0;
-    int levels = 3, levers = 15;
+    int levels = 3, levers = 15, columns = 31;
     int32_t solver = GFMD_SOLVER_AUTO;
     for (int i = 1; i < argc; ++i) {
         if (!strcmp(argv[i], "--sizes") && i + 1 < argc) nsizes = parse_list(argv[++i], sizes, 7), sizes_given = 1;
@@ -826,7 +838,8 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--verbose")) verbose = 1;
         else if (!strcmp(argv[i], "--from") && i + 1 < argc) sweep_from = atof(argv[++i]), from_given = 1;
         else if (!strcmp(argv[i], "--levels") && i + 1 < argc) levels = atoi(argv[++i]);
-        else if (!strcmp(argv[i], "--levers") && i + 1 < argc) levers = parse_levers(argv[++i]);
+        else if (!strcmp(argv[i], "--columns") && i + 1 < argc) columns = parse_names(argv[++i], sweep_names, SWEEP_SOLVERS);
+        else if (!strcmp(argv[i], "--levers") && i + 1 < argc) levers = parse_names(argv[++i], lever_names, 4);
         else if (!strcmp(argv[i], "--tol") && i + 1 < argc) first_tol = atof(argv[++i]), first_tol = first_tol > 0.0 ? first_tol : -1.0;
         else if (!strcmp(argv[i], "--widths") && i + 1 < argc) nwidths = parse_list(argv[++i], widths, 8), widths_given = 1;
         else if (!strcmp(argv[i], "--threads") && i + 1 < argc) threads = atoi(argv[++i]), threads_given = 1;
@@ -847,10 +860,10 @@ int main(int argc, char **argv) {
                    : !strcmp(argv[i], "auto") ? GFMD_SOLVER_AUTO : !strcmp(argv[i], "mass+fire") ? GFMD_SOLVER_MASS_FIRE : -1;
         } else
             solver = -1;
-        if (solver < 0 || !(sigma0 > 0.0) || levels < 1 || first_tol < 0.0 || levers < 0 || !(below >= 0.0) || gap_rms < 0.0 || positions < 0) {
+        if (solver < 0 || !(sigma0 > 0.0) || levels < 1 || first_tol < 0.0 || levers < 0 || columns < 0 || !(below >= 0.0) || gap_rms < 0.0 || positions < 0) {
             fprintf(stderr, "usage: %s [--sizes 256,512,...] [--big] [--widths 0,0.5,1,4] [--threads N] "
                             "[--cg-seconds S] [--no-cg] [--no-alt] [--sigma0 S] [--solver auto|fire|mass|mass+fire|verlet|cg] "
-                            "[--bonded NU] [--adhesion] | --contention | --sweep [--verbose] [--from A] | --loads L,.. | --multilevel | --first-load [--levels L] [--tol T] [--levers fire,mass,multilevel,default] | --big | --displacement [--below B | --gap R [--positions K]] [--no-adhesion] [--bonded NU]\n", argv[0]);
+                            "[--bonded NU] [--adhesion] | --contention | --sweep [--verbose] [--from A] [--columns fire,m+fire,mass,cg,auto] | --loads L,.. | --multilevel | --first-load [--levels L] [--tol T] [--levers fire,mass,multilevel,default] | --big | --displacement [--below B | --gap R [--positions K]] [--no-adhesion] [--bonded NU]\n", argv[0]);
             return 2;
         }
     }
@@ -897,7 +910,7 @@ int main(int argc, char **argv) {
         const double sweep_sizes[1] = {2048}, sweep_widths[3] = {0.25, 1, 100};
         return sweep_table(sizes_given ? sizes : sweep_sizes, sizes_given ? nsizes : 1,
                            widths_given ? widths : sweep_widths, widths_given ? nwidths : 3, threads < 1 ? 1 : threads, adhesion, cg,
-                           verbose, sweep_from);
+                           verbose, sweep_from, columns);
     }
     if (nloads > 0) return loads_table(sizes, nsizes, widths, nwidths, loads, nloads);
     if (multilevel) return multilevel_table(sizes, nsizes, widths, nwidths, sigma0, solver);
