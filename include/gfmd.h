@@ -232,8 +232,8 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * layer (w = 8 a up to about 5400^2, w = 32 a up to about 1300^2 at nu = 0.3), with
  * S = k_halfspace(q_max)/k_min -- and on every layer on a fluid foundation
  * (preconditioned there), except that from nx ny >= 2048^2 on a load that starts from a deformed
- * surface (not flat: a load continuing from the last equilibrium) takes GFMD_SOLVER_MASS_FIRE
- * there at a load where Persson's A/A0 < 0.04, GFMD_SOLVER_FIRE above, unless the layer is of
+ * surface (not flat: a load continuing from the last equilibrium) takes GFMD_SOLVER_FIRE there
+ * at a load where Persson's A/A0 >= 0.04 (CG below), unless the layer is of
  * middle width, f(q_min w) >= 1e4 and q_max w >= 6 with q_max = pi sqrt(2)/a (then CG), or thin,
  * q_max w < 6 (then GFMD_SOLVER_FIRE_MASS at Persson's A/A0 < 0.15/(q_max w), GFMD_SOLVER_MASS_FIRE
  * below twice that or 0.15, whichever is lower, GFMD_SOLVER_FIRE above); with adhesion
@@ -353,8 +353,9 @@ GFMD_API int32_t gfmd_relax(gfmd_sim *s, double tol, int64_t max_steps, int64_t 
  * setting gives on that grid), each coarse surface interpolated to the next finer grid (zero-padded
  * spectrum, then lifted onto the substrate where it would penetrate), and relaxed there in turn
  * (GFMD_SOLVER_AUTO chooses again for that deformed start, as for a load that continues: from
- * 2048^2 on, a layer on a fluid foundation without adhesion takes the approach then FIRE there,
- * or mass-weighted FIRE on a thin sheet at a low load, not the CG of a flat start; a failed call restores the solver of its start), to
+ * 2048^2 on, a thick layer on a fluid foundation without adhesion takes FIRE there at a higher
+ * load, a thin sheet FIRE, mass-weighted FIRE or the approach then FIRE, not the CG of a flat
+ * start; a failed call restores the solver of its start), to
  * the same tol and at most @p max_steps steps per grid; then this grid as gfmd_relax() does.  The
  * long waves relax where steps are cheap; measured, that saves 14-24 % of a thin sheet's time
  * from flat with FIRE and 3 % with mass-weighted FIRE (docs/performance.md): the steps a soft

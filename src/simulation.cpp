@@ -355,6 +355,15 @@ constexpr double kAutoContinueMassThicknessArea = 0.15;
 // twice the mass-weighted bound if lower: on W = 0.25 (bound 0.068) the approach about even at
 // 0.05 (17.5 s against FIRE's 18.1), FIRE from 0.08 (13.5 against 15.4, 11.0 against 15.6); on
 // W = 0.044 (mass-weighted up to 0.19) FIRE next (15.7 s against the approach's 20.7 at 0.27).
+// Below that bound the thick layers now take CG instead of the approach: since its preconditioner's
+// floor stops below the contacts' scale at dense contacts (src/solvers/cg.cpp) the CG won the
+// loads below it on both (gfmd_bench --sweep --sizes 2048 --widths 10, and 100, --columns
+// m+fire,cg,auto --verbose, one thread, the two side by side; docs/performance.md "The
+// preconditioner's floor at dense contacts"): W = 10 at A/A0 = 0.008, 0.016, 0.03 54.14, 35.61,
+// 36.42 s against the approach's 92.85, 64.10, 46.00 s; W = 100 22.52, 28.59, 43.34 s against
+// 52.00, 45.08, 40.73 s; above it FIRE still won most loads (W = 10 at 0.05, 0.08 39.36, 30.60 s
+// against CG's 52.70, 41.83 s).  The continuing loads in all: 0.78x (W = 10) and 0.85x (W = 100)
+// the old rule's seconds.
 constexpr double kAutoContinueFireArea = 0.04;
 constexpr double kAutoContinueThinFireArea = 0.15;
 // With adhesion (CG minimizes the quadratic problem only), at most 100 mass-weighted FIRE steps
@@ -444,7 +453,7 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
             const bool soft = longest_wave_softness(grid_, body_, params_.e_star) >= kAutoContinueCgSoftness;
             if (soft && !thin) return GFMD_SOLVER_CG;  // the middle widths
             const double area = persson_contact_area(params_.sigma0);
-            if (!thin) return area < kAutoContinueFireArea ? GFMD_SOLVER_MASS_FIRE : GFMD_SOLVER_FIRE;
+            if (!thin) return area < kAutoContinueFireArea ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE;
             const double mass_area = kAutoContinueMassThicknessArea / thickness;
             if (area < mass_area) return GFMD_SOLVER_FIRE_MASS;
             return area < std::min(2.0 * mass_area, kAutoContinueThinFireArea) ? GFMD_SOLVER_MASS_FIRE
