@@ -605,8 +605,9 @@ bool Simulation::relax_multilevel(double tol, int64_t max_steps, int levels, int
     if (levels < 1) fail(GFMD_ERR_INVALID_ARG, "levels must be >= 1, got " + std::to_string(levels));
     const int64_t factor = int64_t{1} << std::min(levels - 1, 40);
     // levels = 1 is relax() on any grid (no coarse grid to fit: a 64 x 6 grid was refused)
-    if (levels > 1 && (levels > 41 || grid_.nx() % factor != 0 || grid_.ny() % factor != 0 || grid_.nx() / factor < kMinCoarse ||
-        grid_.ny() / factor < kMinCoarse))
+    const bool fits = levels <= 41 && grid_.nx() % factor == 0 && grid_.ny() % factor == 0 &&
+                      grid_.nx() / factor >= kMinCoarse && grid_.ny() / factor >= kMinCoarse;
+    if (levels > 1 && !fits)
         fail(GFMD_ERR_INVALID_ARG, std::to_string(levels) + " levels need nx and ny divisible by " +
                                        std::to_string(factor) + " with at least " + std::to_string(kMinCoarse) +
                                        " points a side on the coarsest grid; the grid is " +
