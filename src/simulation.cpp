@@ -296,6 +296,16 @@ constexpr double kAutoCgBound = 4e4;
 // 4.7e4: 0.77-0.88x), 0.29x on w = 8 at 2048^2 and 1.19x on w = 32 at 2048^2 (1.2e5); the
 // half-space stayed FIRE's at 256^2 (1.12x).  So bonded layers take CG up to 8e4, between those.
 constexpr double kAutoCgBoundBonded = 8e4;
+// Those bounds were measured at A/A0 ~ 0.1.  At lower loads the half-space's CG needs far fewer
+// iterations (few contact points) while FIRE needs more steps (the long waves move far), and the
+// CG won beyond the bound: from flat, H = 0.8, lambda_s = 4a, lambda_r = n a/8, g = 1, one thread
+// (gfmd_bench --loads 0.003,0.01,0.05 --widths 0 --sizes 512,1024, and a scratch program at 2048^2;
+// docs/performance.md "The half-space at low loads"), at Persson's A/A0 = 0.005 CG took 0.35x
+// FIRE's time at 1024^2 and 0.41x at 2048^2, at 0.016 0.41x at 512^2, 0.68x at 1024^2 and 1.08x
+// at 2048^2, at 0.08 1.3x at 512^2 and 2.5x at 1024^2 (about even at 256^2).  Ordered by Persson's
+// A/A0 times sqrt(N) the wins end between 16 and 20 and the losses begin from 21-33: the half-space
+// takes CG where that is below 20, whatever S sqrt(N).
+constexpr double kAutoCgHalfspaceLowLoad = 20.0;
 // On a layer on a fluid foundation CG iterates on the surface, preconditioned by the inverse
 // stiffness (cg.cpp).  Without adhesion, from flat (gfmd_bench --loads 0.002,0.01,0.05, one
 // thread) it took 0.17-0.54x FIRE's time at 256^2 and 512^2 (W = 0.0625 ... 4) and was faster
@@ -468,7 +478,13 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
     }
     if (!quadratic) return GFMD_SOLVER_FIRE;
     const double bound = (params_.kind == GFMD_GREEN_LAYER_BONDED) ? kAutoCgBoundBonded : kAutoCgBound;
-    return (cg_cost <= bound) ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE;
+    if (cg_cost <= bound) return GFMD_SOLVER_CG;
+    // (no load: no contact, and Persson's variance, a transform of the substrate, not computed)
+    const bool low_load = params_.kind == GFMD_GREEN_HALFSPACE &&
+                          (!(params_.sigma0 > 0.0) ||
+                           persson_contact_area(params_.sigma0) * std::sqrt(static_cast<double>(grid_.real_size())) <
+                               kAutoCgHalfspaceLowLoad);
+    return low_load ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE;
 }
 
 bool Simulation::surface_flat() const {
