@@ -9,10 +9,12 @@
 
 #include <fftw3.h>
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <complex>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -112,6 +114,29 @@ public:
             acc[0] += t;
         });
         return s[0] / static_cast<double>(real_size());
+    }
+    // K global maxima: body(i0, i1, top) over local points raises top[0..K) (each starts at
+    // -infinity) to its block's largest values; then over the blocks (threaded) and all ranks.  A
+    // maximum is exact in any order, so the result depends on neither threads nor ranks.
+    template <int K, class Body>
+    std::array<double, K> max_points(Body &&body) const {
+        static_assert(K >= 1 && K <= 6, "the partials' buffer holds 6 numbers a block (or row)");
+        double *part = sums_.data();
+        const int64_t points = local_points(), stride = mpi_ ? nx_ : kBlock;
+        const int64_t nb = mpi_ ? local_rows_ : block_count(points, kBlock);
+        parallel_for(*pool_, nb, mpi_ ? rows_per_block_ : 1, [&](int64_t b0, int64_t b1) {
+            for (int64_t b = b0; b < b1; ++b) {
+                double *top = part + K * b;
+                for (int k = 0; k < K; ++k) top[k] = -std::numeric_limits<double>::infinity();
+                body(b * stride, std::min((b + 1) * stride, points), top);
+            }
+        });
+        std::array<double, K> m;
+        m.fill(-std::numeric_limits<double>::infinity());
+        for (int64_t b = 0; b < nb; ++b)
+            for (int k = 0; k < K; ++k) m[k] = std::max(m[k], part[K * b + k]);
+        reduce_max(m.data(), K);
+        return m;
     }
     // x[i] = the largest over all processes (serial: nothing to do).  Exact in any order.
     void reduce_max(double *x, int k) const;

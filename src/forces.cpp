@@ -59,11 +59,9 @@ ForceState evaluate_forces(const FftGrid &grid, const Params &p, const Body &bod
             // point pulling away.  The mean of all stresses (about zero: the elastic stress has
             // no mean) left half the points pulling away, a residual no step can reduce.  Rare:
             // one pass over the points.
-            const int64_t n_local = grid.local_points();
-            double top = -std::numeric_limits<double>::infinity();
-            for (int64_t i = 0; i < n_local; ++i) top = std::max(top, stress(i));
-            grid.reduce_max(&top, 1);
-            sigma0 = top;
+            sigma0 = grid.max_points<1>([&](int64_t i0, int64_t i1, double *top) {
+                for (int64_t i = i0; i < i1; ++i) top[0] = std::max(top[0], stress(i));
+            })[0];
         }
     }
     out.mean_pressure = sigma0;

@@ -489,12 +489,12 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
 
 bool Simulation::surface_flat() const {
     const double *z = fields_.z.data();
-    double m[2] = {-std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
-    for (std::size_t i = 0; i < fields_.z.size(); ++i) {
-        m[0] = std::max(m[0], z[i]);
-        m[1] = std::max(m[1], -z[i]);
-    }
-    grid_.reduce_max(m, 2);  // every rank: the same answer, the same solver
+    const auto m = grid_.max_points<2>([&](int64_t i0, int64_t i1, double *top) {  // every rank: the same answer
+        for (int64_t i = i0; i < i1; ++i) {
+            top[0] = std::max(top[0], z[i]);
+            top[1] = std::max(top[1], -z[i]);
+        }
+    });
     return !(m[0] + m[1] > 0.0);
 }
 

@@ -175,14 +175,12 @@ constexpr int kMaxBacktracks = 30;
 // The smallest step along t at which a point above the wall (z > h) moving down reaches it, if
 // below alpha; else 0.
 double first_contact(const FftGrid &grid, const double *z, const double *h, const double *t, double alpha) {
-    // per point in order, then over the ranks by reduce_max on the negative (exact in any order)
-    double best = alpha;
-    const int64_t n = grid.local_points();
-    for (int64_t i = 0; i < n; ++i)
-        if (t[i] < 0.0 && z[i] > h[i]) best = std::min(best, (h[i] - z[i]) / t[i]);
-    double neg = -best;
-    grid.reduce_max(&neg, 1);
-    return -neg < alpha ? -neg : 0.0;
+    // the smallest step as the largest of its negatives
+    const double best = -grid.max_points<1>([&](int64_t i0, int64_t i1, double *top) {
+        for (int64_t i = i0; i < i1; ++i)
+            if (t[i] < 0.0 && z[i] > h[i]) top[0] = std::max(top[0], (z[i] - h[i]) / t[i]);
+    })[0];
+    return best < alpha ? best : 0.0;
 }
 }  // namespace
 
