@@ -386,12 +386,11 @@ enum { SWEEP_LOADS = 10, SWEEP_SOLVERS = 5 };
 typedef struct {
     long long steps[SWEEP_LOADS], total;
     double secs[SWEEP_LOADS], seconds, area;
-    int32_t choice[SWEEP_LOADS];
 } sweep_run;
 
 /* The nine continuing loads on a clone of s by `solver`, timed load by load. */
 static sweep_run sweep_continue(gfmd_sim *s, int32_t solver, const double *loads, int first) {
-    sweep_run r = {{0}, 0, {0}, 0.0, 0.0, {0}};
+    sweep_run r = {{0}, 0, {0}, 0.0, 0.0};
     gfmd_sim *c = NULL;
     int32_t st = gfmd_sim_clone(s, &c);
     if (st != GFMD_OK) die(s, st, "clone");
@@ -399,7 +398,6 @@ static sweep_run sweep_continue(gfmd_sim *s, int32_t solver, const double *loads
     for (int l = first; l < SWEEP_LOADS; ++l) {
         int64_t steps = 0;
         if ((st = gfmd_set_pressure(c, loads[l])) != GFMD_OK) die(c, st, "pressure");
-        gfmd_get_solver(c, &r.choice[l]);
         const double t0 = now();
         if ((st = gfmd_relax(c, 0.0, 10000000, &steps)) != GFMD_OK) die(c, st, "relax");
         r.secs[l] = now() - t0;
@@ -413,12 +411,12 @@ static sweep_run sweep_continue(gfmd_sim *s, int32_t solver, const double *loads
 }
 
 /* The default's choices over the continuing loads, e.g. "mass/m+FIRE" (one name per run). */
-static void sweep_choices(const sweep_run *r, int first, char *out, size_t size) {
+static void sweep_choices(const int32_t *choice, int first, char *out, size_t size) {
     static const char *const shortnames[] = {"Verlet", "FIRE", "mass", "CG", "auto", "m+FIRE"};
     out[0] = '\0';
     for (int l = first; l < SWEEP_LOADS; ++l) {
-        if (l > first && l > 0 && r->choice[l] == r->choice[l - 1]) continue;
-        const int32_t k = r->choice[l];
+        if (l > first && l > 0 && choice[l] == choice[l - 1]) continue;
+        const int32_t k = choice[l];
         const char *name = k >= 0 && k < 6 ? shortnames[k] : "?";
         const size_t used = strlen(out);
         snprintf(out + used, size - used, "%s%s", l > first ? "/" : "", name);
@@ -474,30 +472,25 @@ static int sweep_table(const double *sizes, int nsizes, const double *widths, in
              * solver at every load and that solver has a column, the default is that column's
              * run, not run again */
             int32_t same = -1;
-            sweep_run asked; /* the choices asked of s (printed whether or not the auto column runs) */
-            memset(&asked, 0, sizeof asked);
+            int32_t asked[SWEEP_LOADS] = {0}; /* the choices asked of s (printed whether or not the auto column runs) */
             for (int l = first; l < SWEEP_LOADS; ++l) {
                 int32_t choice = -1;
                 if ((st = gfmd_set_pressure(s, loads[l])) != GFMD_OK) die(s, st, "pressure");
                 gfmd_get_solver(s, &choice);
-                asked.choice[l] = choice;
+                asked[l] = choice;
                 same = l == first ? choice : same == choice ? same : -2;
             }
             sweep_run runs[SWEEP_SOLVERS];
-            memset(runs, 0, sizeof runs);
             for (int k = 0; k < SWEEP_SOLVERS; ++k) {
                 runs[k].total = -1;
                 if (!(columns & (1 << k)) || (solvers[k] == GFMD_SOLVER_CG && (adhesion || !cg))) continue;
                 for (int j = 0; j < k && solvers[k] == GFMD_SOLVER_AUTO; ++j)
-                    if (runs[j].total >= 0 && solvers[j] == same) {
-                        runs[k] = runs[j];
-                        for (int l = first; l < SWEEP_LOADS; ++l) runs[k].choice[l] = same;
-                    }
+                    if (runs[j].total >= 0 && solvers[j] == same) runs[k] = runs[j];
                 if (runs[k].total < 0) runs[k] = sweep_continue(s, solvers[k], loads, first);
             }
             gfmd_sim_destroy(&s);
             char chose[64];
-            sweep_choices(&asked, first, chose, sizeof chose);
+            sweep_choices(asked, first, chose, sizeof chose);
             printf("%5d %7g %9.3g |", n, W, f);
             for (int k = 0; k < SWEEP_SOLVERS; ++k)
                 if (runs[k].total < 0)
