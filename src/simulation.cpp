@@ -304,7 +304,13 @@ constexpr double kAutoCgBoundBonded = 8e4;
 // FIRE's time at 1024^2 and 0.41x at 2048^2, at 0.016 0.41x at 512^2, 0.68x at 1024^2 and 1.08x
 // at 2048^2, at 0.08 1.3x at 512^2 and 2.5x at 1024^2 (about even at 256^2).  Ordered by Persson's
 // A/A0 times sqrt(N) the wins end between 16 and 20 and the losses begin from 21-33: the half-space
-// takes CG where that is below 20, whatever S sqrt(N).
+// takes CG where that is below 20, whatever S sqrt(N).  So do bonded layers beyond their bound
+// (2026-11-27, afternoon; gfmd_bench --sizes 512,1024 --widths 16,32,128 --bonded 0.3 and 0.5
+// --sigma0 0.003, 0.01, 0.05, to A/A0 within 0.1 %, docs/performance.md "Bonded layers at low
+// loads"): where the product was 2.5-8.2 (512^2) and 4.9 (1024^2) CG took 0.28-0.71x FIRE's time
+// on all 14 rows; at 16.3 (1024^2) 0.45-0.70x on w = 64 a and 128 a, 1.22-1.28x on w = 512 a in
+// that run and 0.95x in the run after the change; at 41-82 FIRE won 9 of 10 rows, the tenth a
+// tie (CG 0.93x).  At 2048^2, w = 128 a, 9.7: CG 12.2 s against FIRE's 30.8 s.
 constexpr double kAutoCgHalfspaceLowLoad = 20.0;
 // On a layer on a fluid foundation CG iterates on the surface, preconditioned by the inverse
 // stiffness (cg.cpp).  Without adhesion, from flat (gfmd_bench --loads 0.002,0.01,0.05, one
@@ -480,8 +486,7 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
     const double bound = (params_.kind == GFMD_GREEN_LAYER_BONDED) ? kAutoCgBoundBonded : kAutoCgBound;
     if (cg_cost <= bound) return GFMD_SOLVER_CG;
     // (no load: no contact, and Persson's variance, a transform of the substrate, not computed)
-    const bool low_load = params_.kind == GFMD_GREEN_HALFSPACE &&
-                          (!(params_.sigma0 > 0.0) ||
+    const bool low_load = (!(params_.sigma0 > 0.0) ||
                            persson_contact_area(params_.sigma0) * std::sqrt(static_cast<double>(grid_.real_size())) <
                                kAutoCgHalfspaceLowLoad);
     return low_load ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE;

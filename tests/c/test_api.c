@@ -269,11 +269,15 @@ static int32_t chosen_at_area(int64_t n, double width, double area, double gamma
     return solver;
 }
 
-/* The half-space at the load where Persson's A/A0 is `area`. */
-static int32_t halfspace_at_area(int64_t n, double area) {
+/* A half-space (width 0) or a bonded layer (nu = 0.3) at the load where Persson's A/A0 is `area`. */
+static int32_t stiff_body_at_area(int64_t n, double width, double area) {
     gfmd_sim *s = NULL;
     assert_int_equal(gfmd_sim_create_ex(n, n, (double)n, (double)n, 1, GFMD_PLANNER_ESTIMATE, &s), GFMD_OK);
     TS_OK(s, gfmd_generate_selfaffine(s, 0.8, (double)n / 8.0, 4.0, 1.0, 1, GFMD_DIST_UNIFORM));
+    if (width > 0.0) {
+        TS_OK(s, gfmd_set_poisson(s, 0.3));
+        TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_BONDED, width));
+    }
     double load = 0.0;
     TS_OK(s, gfmd_persson_load(s, area, &load));
     TS_OK(s, gfmd_set_pressure(s, load));
@@ -287,10 +291,17 @@ static void automatic_choice(void **state) {
     (void)state;
     /* the half-space beyond its S sqrt(N) bound (below) takes CG at low loads, Persson's A/A0
      * times sqrt(N) < 20; both sides: 512^2 A/A0 0.038 and 0.041, 1024^2 0.019 and 0.0205 */
-    assert_int_equal(halfspace_at_area(512, 0.038), GFMD_SOLVER_CG);
-    assert_int_equal(halfspace_at_area(512, 0.041), GFMD_SOLVER_FIRE);
-    assert_int_equal(halfspace_at_area(1024, 0.019), GFMD_SOLVER_CG);
-    assert_int_equal(halfspace_at_area(1024, 0.0205), GFMD_SOLVER_FIRE);
+    assert_int_equal(stiff_body_at_area(512, 0.0, 0.038), GFMD_SOLVER_CG);
+    assert_int_equal(stiff_body_at_area(512, 0.0, 0.041), GFMD_SOLVER_FIRE);
+    assert_int_equal(stiff_body_at_area(1024, 0.0, 0.019), GFMD_SOLVER_CG);
+    assert_int_equal(stiff_body_at_area(1024, 0.0, 0.0205), GFMD_SOLVER_FIRE);
+    /* so does a bonded layer beyond its bound (w = 128 at 512^2 and 1024^2, w = 512 at 1024^2:
+     * FIRE at sigma0 = 0.05 below): CG took 0.31-0.49x FIRE's time there at sigma0 = 0.003 */
+    assert_int_equal(stiff_body_at_area(512, 128.0, 0.038), GFMD_SOLVER_CG);
+    assert_int_equal(stiff_body_at_area(512, 128.0, 0.041), GFMD_SOLVER_FIRE);
+    assert_int_equal(stiff_body_at_area(1024, 128.0, 0.019), GFMD_SOLVER_CG);
+    assert_int_equal(stiff_body_at_area(1024, 512.0, 0.019), GFMD_SOLVER_CG);
+    assert_int_equal(stiff_body_at_area(1024, 512.0, 0.0205), GFMD_SOLVER_FIRE);
     /* half-space: S sqrt(N) = 0.7 n^2, CG up to 4e4 (n = 128: 1.2e4; n = 512: 1.9e5) */
     assert_int_equal(chosen(128, GFMD_GREEN_HALFSPACE, 0.0, 0.05, 0.0, 0), GFMD_SOLVER_CG);
     assert_int_equal(chosen(512, GFMD_GREEN_HALFSPACE, 0.0, 0.05, 0.0, 0), GFMD_SOLVER_FIRE);
