@@ -230,7 +230,9 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * body under pressure control GFMD_SOLVER_CG on a half-space or bonded layer whose long waves are
  * not too soft, S sqrt(nx ny) <= 4e4 on a half-space (up to about 240^2) and <= 8e4 on a bonded
  * layer (w = 8 a up to about 5400^2, w = 32 a up to about 1300^2 at nu = 0.3), with
- * S = k_halfspace(q_max)/k_min, and on a half-space or bonded layer of any size at a low load,
+ * S = k_halfspace(q_max)/k_min, at loads where S times Persson's A/A0 < 14 (dense contacts take
+ * FIRE: the 128^2 half-space above A/A0 0.155, a bonded layer w = 32 a above 0.24; w = 8 a keeps
+ * CG up to 0.97), and on a half-space or bonded layer of any size at a low load,
  * where Persson's A/A0 times sqrt(nx ny) < 20 (few contacts: A/A0 < 0.01 at 2048^2) -- and on every layer on a
  * fluid foundation
  * (preconditioned there), except that from nx ny >= 2048^2 on a load that starts from a deformed

@@ -312,6 +312,16 @@ constexpr double kAutoCgBoundBonded = 8e4;
 // that run and 0.95x in the run after the change; at 41-82 FIRE won 9 of 10 rows, the tenth a
 // tie (CG 0.93x).  At 2048^2, w = 128 a, 9.7: CG 12.2 s against FIRE's 30.8 s.
 constexpr double kAutoCgHalfspaceLowLoad = 20.0;
+// And within the bounds the CG loses at high loads: its iterations grow with the contact set while
+// FIRE's steps fall (the wall pins most points).  Measured (2026-11-27, afternoon; gfmd_bench
+// --sizes 128,256,512 and 1024 --widths 0,2,4,8,16,32 --bonded 0.3 --sigma0 0.1, 0.2, 0.3, 0.5
+// --no-cg, to A/A0 within 0.1 %; docs/performance.md "The pressure CG at high loads"), ordered by
+// S times Persson's A/A0: CG faster on every row up to 9.9 but two at 9.1-9.2 (1.34x, 1.50x at
+// 512^2; 0.56-1.00x at the other sizes), mixed from 13 to 14.4 (0.49-1.34x), and from 18 on
+// slower by more than 1.1x on 25 of 30 rows (up to 7.3x: 256^2, w = 128 a, A/A0 0.76), the other
+// five 0.79-1.07x.  So the CG within the bounds where that product is below 14 -- the same as the
+// low-load rule on a half-space (S = 0.7 sqrt(N) there: 0.7 x 20).
+constexpr double kAutoCgDenseContacts = 14.0;
 // On a layer on a fluid foundation CG iterates on the surface, preconditioned by the inverse
 // stiffness (cg.cpp).  Without adhesion, from flat (gfmd_bench --loads 0.002,0.01,0.05, one
 // thread) it took 0.17-0.54x FIRE's time at 256^2 and 512^2 (W = 0.0625 ... 4) and was faster
@@ -484,12 +494,13 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
     }
     if (!quadratic) return GFMD_SOLVER_FIRE;
     const double bound = (params_.kind == GFMD_GREEN_LAYER_BONDED) ? kAutoCgBoundBonded : kAutoCgBound;
-    if (cg_cost <= bound) return GFMD_SOLVER_CG;
     // (no load: no contact, and Persson's variance, a transform of the substrate, not computed)
-    const bool low_load = (!(params_.sigma0 > 0.0) ||
-                           persson_contact_area(params_.sigma0) * std::sqrt(static_cast<double>(grid_.real_size())) <
-                               kAutoCgHalfspaceLowLoad);
-    return low_load ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE;
+    if (!(params_.sigma0 > 0.0)) return GFMD_SOLVER_CG;
+    const double area = persson_contact_area(params_.sigma0);
+    const double softness = long_wave_softness(grid_, body_, params_.e_star);
+    if (cg_cost <= bound && softness * area < kAutoCgDenseContacts) return GFMD_SOLVER_CG;
+    return area * std::sqrt(static_cast<double>(grid_.real_size())) < kAutoCgHalfspaceLowLoad ? GFMD_SOLVER_CG
+                                                                                             : GFMD_SOLVER_FIRE;
 }
 
 bool Simulation::surface_flat() const {

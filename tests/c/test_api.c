@@ -302,6 +302,16 @@ static void automatic_choice(void **state) {
     assert_int_equal(stiff_body_at_area(1024, 128.0, 0.019), GFMD_SOLVER_CG);
     assert_int_equal(stiff_body_at_area(1024, 512.0, 0.019), GFMD_SOLVER_CG);
     assert_int_equal(stiff_body_at_area(1024, 512.0, 0.0205), GFMD_SOLVER_FIRE);
+    /* within the bounds, FIRE at high loads: where S times Persson's A/A0 >= 14 (S = 90.5 on the
+     * 128^2 half-space, 59.1 on w = 32 at 256^2, 29.0 on w = 16 at 1024^2; the bonded w = 8,
+     * S = 14.5, keeps the CG at every load below A/A0 0.966) */
+    assert_int_equal(stiff_body_at_area(128, 0.0, 0.15), GFMD_SOLVER_CG);
+    assert_int_equal(stiff_body_at_area(128, 0.0, 0.16), GFMD_SOLVER_FIRE);
+    assert_int_equal(stiff_body_at_area(256, 32.0, 0.22), GFMD_SOLVER_CG);
+    assert_int_equal(stiff_body_at_area(256, 32.0, 0.25), GFMD_SOLVER_FIRE);
+    assert_int_equal(stiff_body_at_area(1024, 16.0, 0.46), GFMD_SOLVER_CG);
+    assert_int_equal(stiff_body_at_area(1024, 16.0, 0.50), GFMD_SOLVER_FIRE);
+    assert_int_equal(stiff_body_at_area(512, 8.0, 0.9), GFMD_SOLVER_CG);
     /* half-space: S sqrt(N) = 0.7 n^2, CG up to 4e4 (n = 128: 1.2e4; n = 512: 1.9e5) */
     assert_int_equal(chosen(128, GFMD_GREEN_HALFSPACE, 0.0, 0.05, 0.0, 0), GFMD_SOLVER_CG);
     assert_int_equal(chosen(512, GFMD_GREEN_HALFSPACE, 0.0, 0.05, 0.0, 0), GFMD_SOLVER_FIRE);
