@@ -436,6 +436,23 @@ constexpr double kAutoMassThinnerThickness = 4.0;
 // scratch run on another surface (seed 1) gave the same picture: w = 64 a (f = 2.6) 0.78 against
 // 1.00 and 0.51 against 0.96, the half-space 0.77 against 0.53 and 1.06 against 1.09.
 constexpr double kAutoDisplacementMassSoftness = 2.0;
+// Those rows lay at A/A0 ~ 1e-5 to 1e-3.  Nearer the substrate mass weighting loses where the
+// contacts pin the soft long waves, and its step costs two FFT pairs.  Measured without adhesion
+// (2026-11-27, afternoon; gfmd_bench --displacement --no-adhesion --gap G, G = 1, 0.75, 0.5, 0.25,
+// 0.1 rms heights above the substrate's mean, 128^2-1024^2, W = 1, 4, 16; docs/performance.md
+// "Mass-weighted FIRE under displacement control near the substrate"), ordered by the fraction of
+// the substrate above the prescribed mean position (Gaussian heights: 0.16 at G = 1, 0.22 at 0.75,
+// 0.31 at 0.5, 0.40 at 0.25, 0.46 at 0.1): up to 0.22 mass weighting won on 7 of 10 rows (FIRE
+// 1.08-3.2x its time; W = 1 at 256^2-1024^2) and lost on three (0.75-0.76x: W = 4 at 256^2 and
+// 512^2, W = 16 at 512^2); at 0.31 FIRE won on all 6 layers with f(q_min w) < 1e4 (0.5-0.84x its
+// time: W = 1 at 128^2 and 256^2, W = 4 at 256^2-1024^2, W = 16) but lost on the softest two (W = 1
+// at 512^2, f = 5e4: 1.15x; at 1024^2, f = 4e5: 1.25x); from 0.40 on FIRE won on all 14 rows
+// (0.44-0.84x, the softest included; the CG faster still on 5 of the 6 at 0.46).  So
+// without adhesion FIRE from the fraction 0.35, and from 0.25 where f(q_min w) < 1e4 (adhesive
+// layers: not measured so, unchanged).
+constexpr double kAutoDisplacementMassOverlap = 0.25;
+constexpr double kAutoDisplacementMassOverlapSoftest = 0.35;
+constexpr double kAutoDisplacementMassSoftest = 1e4;
 // Checked first, without adhesion: the library's CG (the surface CG, the mean held) where the long
 // waves are stiff enough for it, S sqrt(N) <= 2e5 with S = k_halfspace(q_max)/k_min as in the
 // pressure CG's bound above (a half-space up to about 530^2, a bonded layer w = 64 a up to about
@@ -466,9 +483,15 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
         long_wave_softness(grid_, body_, params_.e_star) * std::sqrt(static_cast<double>(grid_.real_size()));
     if (params_.control != kPressureControl) {
         if (quadratic && cg_cost <= kAutoDisplacementCgBound) return GFMD_SOLVER_CG;
-        const bool soft = params_.kind == GFMD_GREEN_LAYER_FLUID &&
-                          longest_wave_softness(grid_, body_, params_.e_star) >= kAutoDisplacementMassSoftness;
-        return soft ? GFMD_SOLVER_FIRE_MASS : GFMD_SOLVER_FIRE;
+        const double f = longest_wave_softness(grid_, body_, params_.e_star);
+        if (params_.kind != GFMD_GREEN_LAYER_FLUID || f < kAutoDisplacementMassSoftness) return GFMD_SOLVER_FIRE;
+        if (quadratic) {  // near the substrate (the overlap a pass over h)
+            const double overlap = overlap_fraction();
+            if (overlap >= kAutoDisplacementMassOverlapSoftest ||
+                (overlap >= kAutoDisplacementMassOverlap && f < kAutoDisplacementMassSoftest))
+                return GFMD_SOLVER_FIRE;
+        }
+        return GFMD_SOLVER_FIRE_MASS;
     }
     if (params_.kind == GFMD_GREEN_LAYER_FLUID) {
         if (quadratic) {
@@ -501,6 +524,16 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
     if (cg_cost <= bound && softness * area < kAutoCgDenseContacts) return GFMD_SOLVER_CG;
     return area * std::sqrt(static_cast<double>(grid_.real_size())) < kAutoCgHalfspaceLowLoad ? GFMD_SOLVER_CG
                                                                                              : GFMD_SOLVER_FIRE;
+}
+
+double Simulation::overlap_fraction() const {
+    const double *h = fields_.h.data(), mean = params_.mean_z;
+    const auto above = grid_.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {  // every rank: the same answer
+        double c = 0.0;
+        for (int64_t i = i0; i < i1; ++i) c += (h[i] > mean) ? 1.0 : 0.0;
+        acc[0] += c;
+    });
+    return above[0] / static_cast<double>(grid_.real_size());
 }
 
 bool Simulation::surface_flat() const {

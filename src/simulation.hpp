@@ -105,6 +105,7 @@ private:
     void apply_control();  // under displacement control: z projected onto mean(z) = mean_z
     int32_t resolve_solver(int32_t requested) const;
     bool surface_flat() const;  // z the same everywhere (a reset or new substrate; no load carried yet)
+    double overlap_fraction() const;  // the points whose substrate lies above the prescribed mean position
     // under GFMD_SOLVER_AUTO: the solver for the current problem; returns the one it replaced
     // (null if kept), for a caller that must restore it
     std::unique_ptr<Solver> follow_auto_choice();

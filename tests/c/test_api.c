@@ -287,6 +287,36 @@ static int32_t stiff_body_at_area(int64_t n, double width, double area) {
     return solver;
 }
 
+static int compare_doubles(const void *a, const void *b) {
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* A layer on a fluid foundation under displacement control at the mean position with the given
+ * fraction of the substrate above it (a height of the substrate: the points above it counted). */
+static int32_t fluid_at_overlap(int64_t n, double width, double fraction, double gamma0) {
+    gfmd_sim *s = NULL;
+    assert_int_equal(gfmd_sim_create_ex(n, n, (double)n, (double)n, 1, GFMD_PLANNER_ESTIMATE, &s), GFMD_OK);
+    TS_OK(s, gfmd_generate_selfaffine(s, 0.8, (double)n / 8.0, 4.0, 1.0, 1, GFMD_DIST_UNIFORM));
+    TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, width));
+    if (gamma0 > 0.0) TS_OK(s, gfmd_set_adhesion(s, gamma0, 1.0));
+    const size_t points = (size_t)(n * n);
+    double *h = malloc(points * sizeof *h);
+    assert_non_null(h);
+    TS_OK(s, gfmd_get_heights(s, h));
+    qsort(h, points, sizeof *h, compare_doubles);
+    const double position = h[(size_t)((1.0 - fraction) * (double)points)];
+    size_t above = 0;
+    for (size_t i = 0; i < points; ++i) above += h[i] > position;
+    assert_true(fabs((double)above / (double)points - fraction) < 1e-3);
+    free(h);
+    TS_OK(s, gfmd_set_mean_displacement(s, position));
+    int32_t solver = -1;
+    TS_OK(s, gfmd_get_solver(s, &solver));
+    gfmd_sim_destroy(&s);
+    return solver;
+}
+
 static void automatic_choice(void **state) {
     (void)state;
     /* the half-space beyond its S sqrt(N) bound (below) takes CG at low loads, Persson's A/A0
@@ -406,6 +436,14 @@ static void automatic_choice(void **state) {
                         under_displacement[k].width, under_displacement[k].gamma0, (int)got);
         assert_int_equal(got, under_displacement[k].expected);
     }
+    /* near the substrate mass weighting gives way to FIRE without adhesion: where the fraction of
+     * the substrate above the mean position is >= 0.25 (w = 4 at 256^2: f(q_min w) = 6e3), on the
+     * softest layers (f >= 1e4: w = 4 at 512^2, 5e4) from 0.35; with adhesion it stays */
+    assert_int_equal(fluid_at_overlap(256, 4.0, 0.24, 0.0), GFMD_SOLVER_FIRE_MASS);
+    assert_int_equal(fluid_at_overlap(256, 4.0, 0.26, 0.0), GFMD_SOLVER_FIRE);
+    assert_int_equal(fluid_at_overlap(512, 4.0, 0.30, 0.0), GFMD_SOLVER_FIRE_MASS);
+    assert_int_equal(fluid_at_overlap(512, 4.0, 0.36, 0.0), GFMD_SOLVER_FIRE);
+    assert_int_equal(fluid_at_overlap(256, 4.0, 0.45, 1e-3), GFMD_SOLVER_FIRE_MASS);
     /* the choice follows the load's control: a 512^2 half-space (1.9e5) is FIRE's under pressure
      * control (the pressure CG's bound 4e4), CG's under displacement control, FIRE's again after,
      * and FIRE's once adhesion is switched on under displacement control */
