@@ -248,7 +248,7 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * half-space up to about 530^2, a bonded layer w = 64 a up to about 1700^2, w = 16 a up to about
  * 6900^2; a layer on a fluid foundation only where its longest wave is nearly a half-space's),
  * beyond that and with adhesion GFMD_SOLVER_FIRE_MASS on a layer on a
- * fluid foundation with f(q_min w) >= 2 (w < 74 a at 256^2) -- but without adhesion
+ * fluid foundation with f(q_min w) >= 2 (w < 74 a at 256^2) -- but
  * GFMD_SOLVER_FIRE where a fraction >= 0.35 of the substrate lies above the prescribed mean
  * position, or >= 0.25 if f(q_min w) < 1e4 -- and GFMD_SOLVER_FIRE on other bodies; re-chosen whenever the body, the substrate, the
  * adhesion, the load or the load control changes, at gfmd_reset() and on each grid of

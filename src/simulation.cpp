@@ -447,9 +447,11 @@ constexpr double kAutoDisplacementMassSoftness = 2.0;
 // 512^2, W = 16 at 512^2); at 0.31 FIRE won on all 6 layers with f(q_min w) < 1e4 (0.5-0.84x its
 // time: W = 1 at 128^2 and 256^2, W = 4 at 256^2-1024^2, W = 16) but lost on the softest two (W = 1
 // at 512^2, f = 5e4: 1.15x; at 1024^2, f = 4e5: 1.25x); from 0.40 on FIRE won on all 14 rows
-// (0.44-0.84x, the softest included; the CG faster still on 5 of the 6 at 0.46).  So
-// without adhesion FIRE from the fraction 0.35, and from 0.25 where f(q_min w) < 1e4 (adhesive
-// layers: not measured so, unchanged).
+// (0.44-0.84x, the softest included; the CG faster still on 5 of the 6 at 0.46).  With the
+// study's adhesion (gamma0 = 5e-4, rho = a; --adhesion --gap 0.5 and 0.25, 256^2 and 512^2) the
+// same: at 0.31 FIRE 0.53-0.92x on the five layers with f < 1e4, mass weighting faster on the
+// softest (512^2, W = 1: FIRE 1.38x); at 0.40 FIRE 0.56-0.79x on all six.  So FIRE from the
+// fraction 0.35, and from 0.25 where f(q_min w) < 1e4.
 constexpr double kAutoDisplacementMassOverlap = 0.25;
 constexpr double kAutoDisplacementMassOverlapSoftest = 0.35;
 constexpr double kAutoDisplacementMassSoftest = 1e4;
@@ -485,13 +487,10 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
         if (quadratic && cg_cost <= kAutoDisplacementCgBound) return GFMD_SOLVER_CG;
         const double f = longest_wave_softness(grid_, body_, params_.e_star);
         if (params_.kind != GFMD_GREEN_LAYER_FLUID || f < kAutoDisplacementMassSoftness) return GFMD_SOLVER_FIRE;
-        if (quadratic) {  // near the substrate (the overlap a pass over h)
-            const double overlap = overlap_fraction();
-            if (overlap >= kAutoDisplacementMassOverlapSoftest ||
-                (overlap >= kAutoDisplacementMassOverlap && f < kAutoDisplacementMassSoftest))
-                return GFMD_SOLVER_FIRE;
-        }
-        return GFMD_SOLVER_FIRE_MASS;
+        const double overlap = overlap_fraction();  // near the substrate: one pass over h
+        const bool near = overlap >= kAutoDisplacementMassOverlapSoftest ||
+                          (overlap >= kAutoDisplacementMassOverlap && f < kAutoDisplacementMassSoftest);
+        return near ? GFMD_SOLVER_FIRE : GFMD_SOLVER_FIRE_MASS;
     }
     if (params_.kind == GFMD_GREEN_LAYER_FLUID) {
         if (quadratic) {

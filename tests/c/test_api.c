@@ -438,12 +438,13 @@ static void automatic_choice(void **state) {
     }
     /* near the substrate mass weighting gives way to FIRE without adhesion: where the fraction of
      * the substrate above the mean position is >= 0.25 (w = 4 at 256^2: f(q_min w) = 6e3), on the
-     * softest layers (f >= 1e4: w = 4 at 512^2, 5e4) from 0.35; with adhesion it stays */
+     * softest layers (f >= 1e4: w = 4 at 512^2, 5e4) from 0.35; with adhesion as without */
     assert_int_equal(fluid_at_overlap(256, 4.0, 0.24, 0.0), GFMD_SOLVER_FIRE_MASS);
     assert_int_equal(fluid_at_overlap(256, 4.0, 0.26, 0.0), GFMD_SOLVER_FIRE);
     assert_int_equal(fluid_at_overlap(512, 4.0, 0.30, 0.0), GFMD_SOLVER_FIRE_MASS);
     assert_int_equal(fluid_at_overlap(512, 4.0, 0.36, 0.0), GFMD_SOLVER_FIRE);
-    assert_int_equal(fluid_at_overlap(256, 4.0, 0.45, 1e-3), GFMD_SOLVER_FIRE_MASS);
+    assert_int_equal(fluid_at_overlap(256, 4.0, 0.24, 1e-3), GFMD_SOLVER_FIRE_MASS);
+    assert_int_equal(fluid_at_overlap(256, 4.0, 0.26, 1e-3), GFMD_SOLVER_FIRE);
     /* the choice follows the load's control: a 512^2 half-space (1.9e5) is FIRE's under pressure
      * control (the pressure CG's bound 4e4), CG's under displacement control, FIRE's again after,
      * and FIRE's once adhesion is switched on under displacement control */
