@@ -251,13 +251,19 @@ static int32_t chosen(int64_t n, int32_t kind, double width, double sigma0, doub
     return solver;
 }
 
-/* The same at the load where Persson's A/A0 is `area` (gfmd_persson_load), on a fluid layer. */
-static int32_t chosen_at_area(int64_t n, double width, double area, double gamma0) {
+/* A fluid layer of the given width on the tests' substrate, adhesive if gamma0 > 0. */
+static gfmd_sim *fluid_body(int64_t n, double width, double gamma0) {
     gfmd_sim *s = NULL;
     assert_int_equal(gfmd_sim_create_ex(n, n, (double)n, (double)n, 1, GFMD_PLANNER_ESTIMATE, &s), GFMD_OK);
     TS_OK(s, gfmd_generate_selfaffine(s, 0.8, (double)n / 8.0, 4.0, 1.0, 1, GFMD_DIST_UNIFORM));
     TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, width));
     if (gamma0 > 0.0) TS_OK(s, gfmd_set_adhesion(s, gamma0, 1.0));
+    return s;
+}
+
+/* The same at the load where Persson's A/A0 is `area` (gfmd_persson_load), on a fluid layer. */
+static int32_t chosen_at_area(int64_t n, double width, double area, double gamma0) {
+    gfmd_sim *s = fluid_body(n, width, gamma0);
     double load = 0.0, back = 0.0;
     TS_OK(s, gfmd_persson_load(s, area, &load));
     TS_OK(s, gfmd_persson_contact_area(s, load, &back));
@@ -295,11 +301,7 @@ static int compare_doubles(const void *a, const void *b) {
 /* A layer on a fluid foundation under displacement control at the mean position with the given
  * fraction of the substrate above it (a height of the substrate: the points above it counted). */
 static int32_t fluid_at_overlap(int64_t n, double width, double fraction, double gamma0) {
-    gfmd_sim *s = NULL;
-    assert_int_equal(gfmd_sim_create_ex(n, n, (double)n, (double)n, 1, GFMD_PLANNER_ESTIMATE, &s), GFMD_OK);
-    TS_OK(s, gfmd_generate_selfaffine(s, 0.8, (double)n / 8.0, 4.0, 1.0, 1, GFMD_DIST_UNIFORM));
-    TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, width));
-    if (gamma0 > 0.0) TS_OK(s, gfmd_set_adhesion(s, gamma0, 1.0));
+    gfmd_sim *s = fluid_body(n, width, gamma0);
     const size_t points = (size_t)(n * n);
     double *h = malloc(points * sizeof *h);
     assert_non_null(h);
