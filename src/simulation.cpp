@@ -481,8 +481,8 @@ constexpr double kAutoDisplacementCgBound = 2e5;
 int32_t Simulation::resolve_solver(int32_t requested) const {
     if (requested != GFMD_SOLVER_AUTO) return requested;
     const bool quadratic = !(params_.gamma0 > 0.0);
-    const double cg_cost =
-        long_wave_softness(grid_, body_, params_.e_star) * std::sqrt(static_cast<double>(grid_.real_size()));
+    const double softness = long_wave_softness(grid_, body_, params_.e_star);  // S
+    const double cg_cost = softness * std::sqrt(static_cast<double>(grid_.real_size()));
     if (params_.control != kPressureControl) {
         if (quadratic && cg_cost <= kAutoDisplacementCgBound) return GFMD_SOLVER_CG;
         const double f = longest_wave_softness(grid_, body_, params_.e_star);
@@ -519,7 +519,6 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
     // (no load: no contact, and Persson's variance, a transform of the substrate, not computed)
     if (!(params_.sigma0 > 0.0)) return GFMD_SOLVER_CG;
     const double area = persson_contact_area(params_.sigma0);
-    const double softness = long_wave_softness(grid_, body_, params_.e_star);
     if (cg_cost <= bound && softness * area < kAutoCgDenseContacts) return GFMD_SOLVER_CG;
     return area * std::sqrt(static_cast<double>(grid_.real_size())) < kAutoCgHalfspaceLowLoad ? GFMD_SOLVER_CG
                                                                                              : GFMD_SOLVER_FIRE;
