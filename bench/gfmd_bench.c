@@ -11,6 +11,10 @@
  *                                FIRE, mass-weighted FIRE and CG from flat at each load, layers on
  *                                a fluid foundation, with Persson's A/A0 at the load, f(q_min w)
  *                                and the default's choice
+ *   gfmd_bench --choices 0.003,0.05,0.2 [--gaps 1,0.25] [--sizes 256] [--widths 0,1] [--bonded NU]
+ *                                nothing relaxed: the default's choice at each load and (--gaps)
+ *                                mean position, with what its rule reads (S, f(q_min w), Persson's
+ *                                A/A0, the fraction of the substrate above the mean position)
  *   gfmd_bench --multilevel [--sizes 256] [--widths 0.0625,0.125] [--sigma0 S] [--solver fire|mass]
  *                                gfmd_relax_multilevel with 1-4 levels from flat, to 1e-10
  *   gfmd_bench --first-load [--sizes 512,1024,2048] [--widths 0.0625,0.25] [--threads N] [--levels L] [--tol T]
@@ -745,6 +749,83 @@ static int displacement_table(const double *sizes, int nsizes, const double *wid
     return bad;
 }
 
+/* The fraction of the n x n substrate of s above the height m (the points above it counted). */
+static double fraction_above(gfmd_sim *s, int n, double m) {
+    const size_t np = (size_t)n * (size_t)n;
+    double *h = malloc(np * sizeof *h);
+    if (h == NULL) die(s, GFMD_ERR_NOMEM, "heights");
+    const int32_t st = gfmd_get_heights(s, h);
+    if (st != GFMD_OK) die(s, st, "heights");
+    size_t above = 0;
+    for (size_t i = 0; i < np; ++i) above += h[i] > m;
+    free(h);
+    return (double)above / (double)np;
+}
+
+/* --choices: what the default's rule reads and what it chooses, nothing relaxed.  For each body
+ * (a layer on a fluid foundation, bonded with --bonded NU, W = 0 the half-space) its long-wave
+ * softness S = k_halfspace(q_max)/k(q_min) = (q_max/q_min) f(q_min w) and f(q_min w); at each
+ * load (pressure control, without adhesion) Persson's A/A0, A/A0 sqrt(N), S A/A0 and the choice;
+ * at each mean position (--gaps: G rms heights above the substrate's mean height; displacement
+ * control) the fraction of the substrate above it and the choice without and with adhesion
+ * (gamma0 = 5e-4, rho = 1). */
+static int choices_table(const double *sizes, int nsizes, const double *widths, int nwidths, double nu,
+                         const double *loads, int nloads, const double *gaps, int ngaps) {
+    const int bonded = !isnan(nu);
+    const int32_t layer = bonded ? GFMD_GREEN_LAYER_BONDED : GFMD_GREEN_LAYER_FLUID;
+    printf("gfmd %s: the default's choices from flat, %s (w = 4 W a), H = 0.8, lambda_s = 4a, lambda_r = n a/8, "
+           "g = 1, seed 2016\n", gfmd_version(), bonded ? "layers bonded to a rigid base" : "layers on a fluid foundation");
+    if (bonded) printf("bonded layers: nu = %g\n", nu);
+    printf("%5s %7s %9s %9s | %-12s %9s %9s %9s %-6s\n", "n", "W", "f(qmin w)", "S", "load", "A/A0 or", "A sqrtN",
+           "S A", "choice");
+    for (int a = 0; a < nsizes; ++a)
+        for (int b = 0; b < nwidths; ++b) {
+            const int n = (int)sizes[a];
+            const double W = widths[b], pi = 3.141592653589793, q_min = 2.0 * pi / n;
+            double f = 1.0;
+            if (W > 0 && gfmd_green_factor(layer, q_min * 4.0 * W, bonded ? nu : 0.0, &f) != GFMD_OK) f = NAN;
+            const double S = sqrt(2.0) * pi / q_min * f;
+            gfmd_sim *s = NULL;
+            int32_t st = gfmd_sim_create_ex(n, n, n, n, 1, GFMD_PLANNER_ESTIMATE, &s);
+            if (st != GFMD_OK) die(NULL, st, "create");
+            if ((st = gfmd_generate_selfaffine(s, 0.8, n / 8.0, 4.0, 1.0, 2016, GFMD_DIST_UNIFORM)) != GFMD_OK)
+                die(s, st, "substrate");
+            if (bonded && (st = gfmd_set_poisson(s, nu)) != GFMD_OK) die(s, st, "poisson");
+            if (W > 0 && (st = gfmd_set_green(s, layer, W * 4.0)) != GFMD_OK) die(s, st, "green");
+            for (int c = 0; c < nloads; ++c) {
+                double area = 0.0;
+                int32_t choice = -1;
+                if ((st = gfmd_set_pressure(s, loads[c])) != GFMD_OK) die(s, st, "pressure");
+                gfmd_persson_contact_area(s, loads[c], &area);
+                gfmd_get_solver(s, &choice);
+                char what[16];
+                snprintf(what, sizeof what, "sigma0 %g", loads[c]);
+                printf("%5d %7g %9.3g %9.3g | %-12s %9.4f %9.3g %9.3g %-6s\n", n, W, f, S, what, area, area * n,
+                       S * area, solver_name(choice));
+            }
+            if (ngaps > 0) {
+                double mean = 0.0, rms = 0.0;
+                height_stats(s, n, &mean, &rms);
+                for (int c = 0; c < ngaps; ++c) {
+                    int32_t plain = -1, sticky = -1;
+                    if ((st = gfmd_set_mean_displacement(s, mean + gaps[c] * rms)) != GFMD_OK) die(s, st, "displacement");
+                    gfmd_get_solver(s, &plain);
+                    if ((st = gfmd_set_adhesion(s, 5e-4, 1.0)) != GFMD_OK) die(s, st, "adhesion");
+                    gfmd_get_solver(s, &sticky);
+                    if ((st = gfmd_set_adhesion(s, 0.0, 1.0)) != GFMD_OK) die(s, st, "adhesion");
+                    char what[16], chose[24];
+                    snprintf(what, sizeof what, "gap %g rms", gaps[c]);
+                    snprintf(chose, sizeof chose, "%s, adh. %s", solver_name(plain), solver_name(sticky));
+                    printf("%5d %7g %9.3g %9.3g | %-12s %9.4f %9s %9s %s\n", n, W, f, S, what,
+                           fraction_above(s, n, mean + gaps[c] * rms), "-", "-", chose);
+                }
+            }
+            gfmd_sim_destroy(&s);
+        }
+    printf("(A/A0 or: Persson's A/A0 at a load; at a mean position the fraction of the substrate above it)\n");
+    return 0;
+}
+
 /* --big: one point at 4096^2 (or --sizes), a W = 1 layer on a fluid foundation from flat to the
  * default tolerance with the default solver, on --threads threads (default 2): planning and
  * relaxation timed apart. */
@@ -815,7 +896,8 @@ int main(int argc, char **argv) {
         no_adhesion = 0;
     double gap_rms = 0.0;
     int below_given = 0, positions = 0;
-    double loads[8];
+    double loads[8], choice_loads[8], gaps[8];
+    int choices = 0, nchoice_loads = 0, ngaps = 0;
     double cg_seconds = 120.0, sigma0 = 0.05, bonded_nu = NAN, first_tol = 0.0, sweep_from = 0.0, below = 1.0;
     int levels = 3, levers = 15, columns = 31;
     int32_t solver = GFMD_SOLVER_AUTO;
@@ -841,6 +923,8 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--no-alt")) alt = 0;
         else if (!strcmp(argv[i], "--contention")) contention = 1;
         else if (!strcmp(argv[i], "--loads") && i + 1 < argc) nloads = parse_list(argv[++i], loads, 8);
+        else if (!strcmp(argv[i], "--choices") && i + 1 < argc) nchoice_loads = parse_list(argv[++i], choice_loads, 8), choices = 1;
+        else if (!strcmp(argv[i], "--gaps") && i + 1 < argc) ngaps = parse_list(argv[++i], gaps, 8);
         else if (!strcmp(argv[i], "--multilevel")) multilevel = 1;
         else if (!strcmp(argv[i], "--adhesion")) adhesion = 1;
         else if (!strcmp(argv[i], "--no-adhesion")) no_adhesion = 1;
@@ -856,7 +940,7 @@ int main(int argc, char **argv) {
         if (solver < 0 || !(sigma0 > 0.0) || levels < 1 || first_tol < 0.0 || levers < 0 || columns < 0 || !(below >= 0.0) || gap_rms < 0.0 || positions < 0) {
             fprintf(stderr, "usage: %s [--sizes 256,512,...] [--big] [--widths 0,0.5,1,4] [--threads N] "
                             "[--cg-seconds S] [--no-cg] [--no-alt] [--sigma0 S] [--solver auto|fire|mass|mass+fire|verlet|cg] "
-                            "[--bonded NU] [--adhesion] | --contention | --sweep [--verbose] [--from A] [--columns fire,m+fire,mass,cg,auto] | --loads L,.. | --multilevel | --first-load [--levels L] [--tol T] [--levers fire,mass,multilevel,default] | --big | --displacement [--below B | --gap R [--positions K]] [--no-adhesion] [--bonded NU]\n", argv[0]);
+                            "[--bonded NU] [--adhesion] | --contention | --sweep [--verbose] [--from A] [--columns fire,m+fire,mass,cg,auto] | --loads L,.. | --choices L,.. [--gaps G,..] | --multilevel | --first-load [--levels L] [--tol T] [--levers fire,mass,multilevel,default] | --big | --displacement [--below B | --gap R [--positions K]] [--no-adhesion] [--bonded NU]\n", argv[0]);
             return 2;
         }
     }
@@ -866,6 +950,16 @@ int main(int argc, char **argv) {
         /* sigma0 = 0.025 gives A/A0 ~ 0.1 on this body (0.118 at 0.03, 512^2) */
         return big_point(sizes_given ? sizes : big_size, sizes_given ? nsizes : 1, sigma0_given ? sigma0 : 0.025,
                          threads_given ? threads : 2);
+    }
+    if (choices) {
+        int bad = !isnan(bonded_nu) && !(bonded_nu > -1.0 && bonded_nu <= 0.5);
+        for (int c = 0; c < nchoice_loads; ++c) bad |= !(choice_loads[c] > 0.0);
+        for (int c = 0; c < ngaps; ++c) bad |= !(gaps[c] > 0.0);
+        if (bad || nchoice_loads == 0) {
+            fprintf(stderr, "gfmd_bench: --choices takes loads > 0 (--gaps: positions > 0 rms), --bonded a Poisson ratio in (-1, 0.5]\n");
+            return 2;
+        }
+        return choices_table(sizes, nsizes, widths, nwidths, bonded_nu, choice_loads, nchoice_loads, gaps, ngaps);
     }
     if (first_load) {
         const double thin[2] = {0.0625, 0.25}, first_sizes[3] = {512, 1024, 2048};
