@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
-#include <limits>
 #include <string>
 
 #include "error.hpp"
@@ -59,8 +58,10 @@ void Fields::lift_at_rest(const FftGrid &grid) {
 }
 
 void Fields::put_flat_at_rest(const FftGrid &grid) {
-    double top = (h.size() > 0) ? *std::max_element(h.data(), h.data() + h.size()) : -std::numeric_limits<double>::infinity();
-    grid.reduce_max(&top, 1);
+    const double *ph = h.data();
+    const double top = grid.max_points<1>([&](int64_t i0, int64_t i1, double *m) {  // every rank: the same
+        for (int64_t i = i0; i < i1; ++i) m[0] = std::max(m[0], ph[i]);
+    })[0];
     std::fill(z.data(), z.data() + z.size(), top);
     std::fill(v.data(), v.data() + v.size(), 0.0);
 }
