@@ -623,12 +623,18 @@ static int same_equilibrium(int n, double area, double area_ref, double pressure
 }
 
 /* The substrate's mean and rms height (the heights read back). */
-static void height_stats(gfmd_sim *s, int n, double *mean, double *rms) {
-    const size_t np = (size_t)n * (size_t)n;
-    double *h = malloc(np * sizeof *h);
+/* The n x n substrate of s, malloc'd (the caller frees it). */
+static double *heights_of(gfmd_sim *s, int n) {
+    double *h = malloc((size_t)n * (size_t)n * sizeof *h);
     if (h == NULL) die(s, GFMD_ERR_NOMEM, "heights");
     const int32_t st = gfmd_get_heights(s, h);
     if (st != GFMD_OK) die(s, st, "heights");
+    return h;
+}
+
+static void height_stats(gfmd_sim *s, int n, double *mean, double *rms) {
+    const size_t np = (size_t)n * (size_t)n;
+    double *h = heights_of(s, n);
     double m = 0.0, m2 = 0.0;
     for (size_t i = 0; i < np; ++i) m += h[i];
     m /= (double)np;
@@ -752,10 +758,7 @@ static int displacement_table(const double *sizes, int nsizes, const double *wid
 /* The fraction of the n x n substrate of s above the height m (the points above it counted). */
 static double fraction_above(gfmd_sim *s, int n, double m) {
     const size_t np = (size_t)n * (size_t)n;
-    double *h = malloc(np * sizeof *h);
-    if (h == NULL) die(s, GFMD_ERR_NOMEM, "heights");
-    const int32_t st = gfmd_get_heights(s, h);
-    if (st != GFMD_OK) die(s, st, "heights");
+    double *h = heights_of(s, n);
     size_t above = 0;
     for (size_t i = 0; i < np; ++i) above += h[i] > m;
     free(h);
@@ -1073,10 +1076,7 @@ int main(int argc, char **argv) {
             }
             double *h = NULL;
             cg_result r = {0, 0, 0, 0, 0, 0, -1, -1};
-            if (cg) {
-                h = malloc(sizeof(double) * (size_t)n * (size_t)n);
-                gfmd_get_heights(s, h);
-            }
+            if (cg) h = heights_of(s, n);
             gfmd_sim_destroy(&s);
             if (cg) {
                 cg_options opt = {1e-12, 100000000, cg_seconds, threads, FFTW_MEASURE, area_conv, 1e-3};
