@@ -1035,8 +1035,8 @@ int main(int argc, char **argv) {
             gfmd_sim *s = NULL;
             int32_t st;
             int64_t more = 0;
-            const double base_kb = read_status_kb("VmRSS:");
             reset_peak();
+            const double base_kb = read_status_kb("VmRSS:");
             if ((st = gfmd_sim_create(n, n, l, l, &s)) != GFMD_OK) die(NULL, st, "create");
             if ((st = gfmd_set_threads(s, threads)) != GFMD_OK) die(s, st, "threads");
             if ((st = gfmd_generate_selfaffine(s, 0.8, l / 8.0, 4.0, 1.0, 2016, GFMD_DIST_UNIFORM)) != GFMD_OK)

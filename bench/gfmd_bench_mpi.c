@@ -128,8 +128,8 @@ int main(int argc, char **argv) {
         if (n < 8) continue;
         const double pair = mpi_pair_seconds(n, flags, steps);
 
-        const double base = read_status_kb("VmRSS:");
         reset_peak();
+        const double base = read_status_kb("VmRSS:");
         gfmd_sim *s = NULL;
         int32_t st = gfmd_sim_create_mpi(MPI_COMM_WORLD, n, n, n, n, planner, &s);
         if (st == GFMD_OK) st = gfmd_set_threads(s, 1);
@@ -146,8 +146,8 @@ int main(int argc, char **argv) {
 
         double serial = 0.0, serial_bpt = 0.0;
         if (rank == 0) {
-            const double sbase = read_status_kb("VmRSS:");
             reset_peak();
+            const double sbase = read_status_kb("VmRSS:");
             gfmd_sim *t = NULL;
             int32_t ts = gfmd_sim_create_ex(n, n, n, n, ranks, planner, &t);
             if (ts == GFMD_OK) ts = build(t, n);
