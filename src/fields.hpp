@@ -28,7 +28,9 @@ struct Fields {
     RealBuffer v;          // velocity of z
     RealBuffer f;          // force per area on z (elastic + external + adhesive); solvers may reuse it
                            // within a step (evaluate_forces() rewrites it after every step)
-    ComplexBuffer work;    // FFT scratch, meaningful only inside one computation
+    // FFT scratch, meaningful only inside one computation; between computations free, also for
+    // a const observable (mutable: Persson's variance transforms h into it)
+    mutable ComplexBuffer work;
     // Set by a solver whose last act was grid.forward(z, work) (the surface CG's checked step):
     // the force evaluation that follows the step takes the transform from work, and clears it.
     bool work_holds_z = false;
