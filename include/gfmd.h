@@ -422,9 +422,9 @@ GFMD_API int32_t gfmd_get_pressure(const gfmd_sim *s, double *p);
  * V = sum over q != 0 of |h(q)|^2 / G(q)^2 (full plane, h(q) the Fourier coefficients normalized so
  * that sum_q |h(q)|^2 = <h^2>), with the handle's G(q) (half-space or layer).  For a half-space,
  * V = (E* g / 2)^2 with g the rms gradient.  Does not change the handle's state; V is computed
- * at the first call after the substrate or the body changed (one FFT, one temporary
- * half-spectrum) and kept with them, so later calls -- and the automatic solver choice at each
- * change of load -- reuse it.
+ * at the first call after the substrate or the body changed (one FFT, into the handle's own
+ * transform scratch: no memory is allocated, so it cannot fail for want of memory) and kept with
+ * them, so later calls -- and the automatic solver choice at each change of load -- reuse it.
  * @return GFMD_ERR_RANGE if V overflows double precision.
  */
 GFMD_API int32_t gfmd_persson_variance(const gfmd_sim *s, double *variance);
