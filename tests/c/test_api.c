@@ -637,8 +637,9 @@ static void cg_without_memory(void **state) {
  * budget: h, z, v, F and the two saved fields of a call's start (48 B/pt), the complex half
  * spectrum and the stiffness (12 B/pt), a solver's own grid fields (the surface CG: 8 B/pt of
  * scratch, mass-weighted FIRE: a byte, and under displacement control 8 B/pt more, the pressure
- * CG: 16 B/pt) -- 60 to 77 B/pt; 80 leaves room for neither a third grid-sized field nor a second
- * solver's.  Measured as the rise of the peak resident set (/proc/self/status VmHWM, after
+ * CG: 16 B/pt) -- 60 to 77 B/pt; a change of body builds its stiffness beside the old one (4 B/pt
+ * for that call: mass-weighted FIRE's 65 B/pt, whose peak is the layer's set_green); 80 leaves room
+ * for neither a third grid-sized field nor a second solver's.  Measured as the rise of the peak resident set (/proc/self/status VmHWM, after
  * resetting it through /proc/self/clear_refs) in a child process, so that no earlier test's memory
  * counts, as the per-point cost of a body's growth: the rise at 2048^2 less the rise at 1024^2,
  * divided by the points added -- what a body needs per point at the sizes the promise is for.  The
