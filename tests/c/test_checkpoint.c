@@ -434,6 +434,54 @@ static void cg_state_without_count_resumes(void **state) {
     same_surfaces_then_destroy(a, b);
 }
 
+/* Polonsky-Keer's restart when every pressure clears: an iteration whose update leaves no point
+ * carrying pressure and none joining restarts from the uniform load (pk.cpp).  No relaxation of
+ * the tests reaches it (the update keeps the sum of the pressures but for rounding); a file does:
+ * a CG checkpoint whose pressure field is zero -- valid by the format, every value >= 0 -- is
+ * resumed with u = G p = 0 and the approach 0, so every point has a gap >= 0 (the substrate's
+ * highest point at 0) and none joins.  The resumed run must reach the original run's equilibrium
+ * (without the restart the load would be scaled by 1/0 and the call diverge). */
+static void pk_restarts_when_every_pressure_clears(void **state) {
+    (void)state;
+    gfmd_sim *a = make_cg_body();
+    TS_OK(a, gfmd_step(a, 7));
+    TS_OK(a, gfmd_sim_save(a, PATH));
+    TS_OK(a, gfmd_relax(a, 1e-10, 100000, NULL));
+    double area_a, gap_a;
+    TS_OK(a, gfmd_get_contact_area(a, &area_a));
+    TS_OK(a, gfmd_get_mean_gap(a, &gap_a));
+    long n = 0;
+    unsigned char *buf = read_all(PATH, &n);
+    const int k = 4; /* h, z, v and the CG's pressure, the last */
+    const long pressure_at = n - 8 - 8L * k * NY - 8L * NX * NY;
+    double p = -1.0;
+    int carrying = 0;
+    for (long i = 0; i < NX * NY; ++i) {
+        memcpy(&p, buf + pressure_at + 8 * i, 8);
+        carrying += p > 0.0;
+    }
+    assert_true(carrying > 0); /* the field found is a contact pressure (the run is in contact) */
+    memset(buf + pressure_at, 0, 8 * (size_t)(NX * NY));
+    write_rehashed5(PATH, buf, n, k);
+    free(buf);
+    gfmd_sim *b = NULL;
+    char msg[256] = "";
+    if (gfmd_sim_load(PATH, &b, msg, sizeof msg) != GFMD_OK) fail_msg("zero pressure field: %s", msg);
+    int64_t steps_b = 0;
+    TS_OK(b, gfmd_relax(b, 1e-10, 100000, &steps_b));
+    double area_b, gap_b;
+    TS_OK(b, gfmd_get_contact_area(b, &area_b));
+    TS_OK(b, gfmd_get_mean_gap(b, &gap_b));
+    print_message("resumed from a cleared pressure: %lld iterations, A/A0 %.8f (original %.8f), gap %.12g (%.12g)\n",
+                  (long long)steps_b, area_b, area_a, gap_b, gap_a);
+    /* both at 1e-10 of the pressure scale, the problem convex: the same contact points, the gap
+     * to 1e-8 (as the surface CG's resumed runs below) */
+    assert_true(area_b == area_a && ts_rel(gap_b, gap_a) < 1e-8);
+    gfmd_sim_destroy(&a);
+    gfmd_sim_destroy(&b);
+    remove(PATH);
+}
+
 /* The surface CG's flag in a file (the second number of CG's state): 0 conjugate, 1 fresh (the
  * next direction the preconditioned force), 2 fresh with the next direction the force itself (a
  * projected step that failed its energy check was undone; src/solvers/cg.cpp).  The library rarely
@@ -583,6 +631,7 @@ int main(void) {
         cmocka_unit_test(auto_choice_survives_restart),
         cmocka_unit_test(cg_restart_is_bit_exact),
         cmocka_unit_test(cg_state_without_count_resumes),
+        cmocka_unit_test(pk_restarts_when_every_pressure_clears),
         cmocka_unit_test(surface_cg_flag_values),
         cmocka_unit_test(mass_fire_state_without_estimates_resumes),
         cmocka_unit_test(forged_headers_are_refused),
