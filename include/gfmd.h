@@ -24,10 +24,10 @@
  * @par Thread contract
  * Distinct handles are independent and may be used from different threads at the same time.  One
  * handle must be used by one thread at a time (including the const getters, which may record an
- * error message, and Persson's, which transform the substrate in the handle's FFT scratch).  FFTW planning, which is not thread-safe, is serialized inside the library.
- * The library installs FFTW's spawn-loop callback (fftw_threads_set_callback) so that its own
- * transforms run on the handle's threads; other threaded FFTW plans of the process run as with
- * FFTW's OpenMP backend.
+ * error message, and Persson's, which transform the substrate in the handle's FFT scratch).  FFTW
+ * planning, which is not thread-safe, is serialized inside the library.  The library installs
+ * FFTW's spawn-loop callback (fftw_threads_set_callback) so that its own transforms run on the
+ * handle's threads; other threaded FFTW plans of the process run as with FFTW's OpenMP backend.
  */
 #ifndef GFMD_H
 #define GFMD_H
