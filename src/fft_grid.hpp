@@ -138,6 +138,13 @@ public:
         reduce_max(m.data(), K);
         return m;
     }
+    // The largest of the local_points() values x over all points of all ranks (-infinity on an
+    // empty grid): max_points over one field.
+    double max_of(const double *x) const {
+        return max_points<1>([&](int64_t i0, int64_t i1, double *top) {
+            for (int64_t i = i0; i < i1; ++i) top[0] = std::max(top[0], x[i]);
+        })[0];
+    }
     // x[i] = the largest over all processes (serial: nothing to do).  Exact in any order.
     void reduce_max(double *x, int k) const;
     // Every rank learns the first failure: status != 0 on any rank gives every rank the status

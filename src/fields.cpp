@@ -58,10 +58,7 @@ void Fields::lift_at_rest(const FftGrid &grid) {
 }
 
 void Fields::put_flat_at_rest(const FftGrid &grid) {
-    const double *ph = h.data();
-    const double top = grid.max_points<1>([&](int64_t i0, int64_t i1, double *m) {  // every rank: the same
-        for (int64_t i = i0; i < i1; ++i) m[0] = std::max(m[0], ph[i]);
-    })[0];
+    const double top = grid.max_of(h.data());  // every rank: the same
     std::fill(z.data(), z.data() + z.size(), top);
     std::fill(v.data(), v.data() + v.size(), 0.0);
 }

@@ -47,8 +47,8 @@ double persson_variance(const FftGrid &grid, const Body &body, const Fields &fie
     // 8 B/pt on top of the fields (the half-space's peak at 2048^2: 68.4 B/pt against 60.4), and
     // an allocation, with its NOMEM, in a setter.
     assert(!fields.work_holds_z);
-    const std::complex<double> *hq = fields.work.data();
-    grid.forward(fields.h.data(), fields.work.data());
+    std::complex<double> *hq = fields.work.data();
+    grid.forward(fields.h.data(), hq);
     const int64_t nxh = grid.nxh();
     const double inv_n = 1.0 / static_cast<double>(grid.real_size());
     const double v = grid.sum_mode_rows<1>([&](int64_t r0, int64_t r1, double *acc) {

@@ -101,9 +101,7 @@ void generate_selfaffine(const FftGrid &grid, const SelfAffineParams &p, std::co
     for (int64_t c = 0; c < rows * nxh; ++c) work[c] *= scale;
     grid.backward(work, h);
     const int64_t n = grid.local_points();
-    const double hmax = grid.max_points<1>([&](int64_t i0, int64_t i1, double *m) {  // every rank: the same
-        for (int64_t i = i0; i < i1; ++i) m[0] = std::max(m[0], h[i]);
-    })[0];
+    const double hmax = grid.max_of(h);  // every rank: the same
     for (int64_t i = 0; i < n; ++i) h[i] -= hmax;
 }
 
