@@ -297,6 +297,15 @@ static const char *solver_name(int32_t solver) {
     return solver >= 0 && solver < (int32_t)(sizeof names / sizeof names[0]) ? names[solver] : "?";
 }
 
+/* f(q_min w) of an n x n grid (spacing a, q_min = 2 pi/(n a)) for a layer of width 4 W a: the
+ * longest wave's softness against the half-space; 1 for the half-space (W = 0), NaN if the
+ * library refuses it. */
+static double longest_wave_factor(int32_t layer, int n, double W, double nu) {
+    double f = 1.0;
+    if (W > 0 && gfmd_green_factor(layer, 2.0 * 3.141592653589793 / n * 4.0 * W, nu, &f) != GFMD_OK) f = NAN;
+    return f;
+}
+
 /* --loads: FIRE, mass-weighted FIRE, the approach then FIRE and CG from flat to the default
  * tolerance at each load, with the default's choice (from the same flat start) and f(q_min w), the
  * long-wave softness of the layer against the half-space (1 for the half-space, 6/(q_min w)^3 for
@@ -313,10 +322,10 @@ static int loads_table(const double *sizes, int nsizes, const double *widths, in
         for (int b = 0; b < nwidths; ++b)
             for (int c = 0; c < nloads; ++c) {
                 const int n = (int)sizes[a];
-                double secs[4], area = 0.0, persson = 0.0, f = 1.0;
+                double secs[4], area = 0.0, persson = 0.0;
+                const double f = longest_wave_factor(GFMD_GREEN_LAYER_FLUID, n, widths[b], 0.0);
                 int64_t steps[4];
                 int32_t choice = -1;
-                gfmd_green_factor(GFMD_GREEN_LAYER_FLUID, 2.0 * 3.141592653589793 / n * 4.0 * widths[b], 0.0, &f);
                 for (int k = 0; k < 4; ++k) {
                     gfmd_sim *s = bench_body(n, widths[b], loads[c], solvers[k]);
                     const double t0 = now();
@@ -450,9 +459,9 @@ static int sweep_table(const double *sizes, int nsizes, const double *widths, in
             gfmd_sim *s = bench_body(n, W, 0.01, GFMD_SOLVER_AUTO);
             int32_t st = gfmd_set_threads(s, threads);
             if (st == GFMD_OK && adhesion) st = gfmd_set_adhesion(s, 5e-4, 1.0);
-            double loads[SWEEP_LOADS], f = 1.0;
+            double loads[SWEEP_LOADS];
             for (int k = 0; k < SWEEP_LOADS; ++k) loads[k] = persson_load(s, targets[k]);
-            if (W > 0) gfmd_green_factor(GFMD_GREEN_LAYER_FLUID, 2.0 * 3.141592653589793 / n * 4.0 * W, 0.0, &f);
+            const double f = longest_wave_factor(GFMD_GREEN_LAYER_FLUID, n, W, 0.0);
             int64_t steps = 0, coarse = 0;
             if (st == GFMD_OK) st = gfmd_set_pressure(s, loads[0]);
             if (st == GFMD_OK)
@@ -784,10 +793,8 @@ static int choices_table(const double *sizes, int nsizes, const double *widths, 
     for (int a = 0; a < nsizes; ++a)
         for (int b = 0; b < nwidths; ++b) {
             const int n = (int)sizes[a];
-            const double W = widths[b], pi = 3.141592653589793, q_min = 2.0 * pi / n;
-            double f = 1.0;
-            if (W > 0 && gfmd_green_factor(layer, q_min * 4.0 * W, bonded ? nu : 0.0, &f) != GFMD_OK) f = NAN;
-            const double S = sqrt(2.0) * pi / q_min * f;
+            const double W = widths[b], f = longest_wave_factor(layer, n, W, bonded ? nu : 0.0);
+            const double S = sqrt(2.0) * n / 2.0 * f; /* q_max/q_min = sqrt(2) pi/(2 pi/n) */
             gfmd_sim *s = NULL;
             int32_t st = gfmd_sim_create_ex(n, n, n, n, 1, GFMD_PLANNER_ESTIMATE, &s);
             if (st != GFMD_OK) die(NULL, st, "create");
