@@ -232,10 +232,9 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * layer (w = 8 a up to about 5400^2, w = 32 a up to about 1300^2 at nu = 0.3), with
  * S = k_halfspace(q_max)/k_min, at loads where S times Persson's A/A0 < 14 (dense contacts take
  * FIRE: the 128^2 half-space above A/A0 0.155, a bonded layer w = 32 a above 0.24; w = 8 a keeps
- * CG up to 0.97), and on a half-space or bonded layer of any size at a low load,
- * where Persson's A/A0 times sqrt(nx ny) < 20 (few contacts: A/A0 < 0.01 at 2048^2) -- and on every layer on a
- * fluid foundation
- * (preconditioned there), except that from nx ny >= 2048^2 on a load that starts from a deformed
+ * CG up to 0.97), and on a half-space or bonded layer of any size at a low load, where Persson's
+ * A/A0 times sqrt(nx ny) < 20 (few contacts: A/A0 < 0.01 at 2048^2) -- and on every layer on a
+ * fluid foundation (preconditioned there), except that from nx ny >= 2048^2 on a load that starts from a deformed
  * surface (not flat: a load continuing from the last equilibrium) takes GFMD_SOLVER_FIRE there
  * at a load where Persson's A/A0 >= 0.04 (CG below), unless the layer is of
  * middle width, f(q_min w) >= 1e4 and q_max w >= 6 with q_max = pi sqrt(2)/a (then CG), or thin,
@@ -247,10 +246,10 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * under displacement control without adhesion GFMD_SOLVER_CG where S sqrt(nx ny) <= 2e5 (a
  * half-space up to about 530^2, a bonded layer w = 64 a up to about 1700^2, w = 16 a up to about
  * 6900^2; a layer on a fluid foundation only where its longest wave is nearly a half-space's),
- * beyond that and with adhesion GFMD_SOLVER_FIRE_MASS on a layer on a
- * fluid foundation with f(q_min w) >= 2 (w < 74 a at 256^2) -- but
- * GFMD_SOLVER_FIRE where a fraction >= 0.35 of the substrate lies above the prescribed mean
- * position, or >= 0.25 if f(q_min w) < 1e4 -- and GFMD_SOLVER_FIRE on other bodies; re-chosen whenever the body, the substrate, the
+ * beyond that and with adhesion GFMD_SOLVER_FIRE_MASS on a layer on a fluid foundation with
+ * f(q_min w) >= 2 (w < 74 a at 256^2) -- but GFMD_SOLVER_FIRE where a fraction >= 0.35 of the
+ * substrate lies above the prescribed mean position, or >= 0.25 if f(q_min w) < 1e4 -- and
+ * GFMD_SOLVER_FIRE on other bodies; re-chosen whenever the body, the substrate, the
  * adhesion, the load or the load control changes, at gfmd_reset() and on each grid of
  * gfmd_relax_multilevel() after its start is interpolated (a deformed surface), from the state
  * then; the rule and its measurements are in docs/performance.md;
