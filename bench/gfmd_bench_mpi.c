@@ -14,7 +14,6 @@
  * Timings on a shared 2-core machine are noisy: compare within a run. */
 #include <fftw3-mpi.h>
 #include <gfmd_mpi.h>
-#include <malloc.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -141,7 +140,6 @@ int main(int argc, char **argv) {
         double bpt = (read_status_kb("VmHWM:") - base) * 1024.0 / (double)(rows > 0 ? rows * n : 1);
         MPI_Allreduce(MPI_IN_PLACE, &bpt, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
         gfmd_sim_destroy(&s);
-        malloc_trim(0); /* give the memory back, so the next handle's peak is its own */
         failed |= st != GFMD_OK;
 
         double serial = 0.0, serial_bpt = 0.0;
@@ -154,7 +152,6 @@ int main(int argc, char **argv) {
             if (ts == GFMD_OK) serial = step_seconds(t, steps, MPI_COMM_NULL);
             serial_bpt = (read_status_kb("VmHWM:") - sbase) * 1024.0 / ((double)n * n);
             gfmd_sim_destroy(&t);
-            malloc_trim(0);
             failed |= ts != GFMD_OK;
             printf("%6d %5d | %9.2f %9.2f %6.2f %7.1f | %9.2f %7.1f\n", n, ranks, 1e3 * pair, 1e3 * step, step / pair, bpt,
                    1e3 * serial, serial_bpt);
