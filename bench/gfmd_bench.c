@@ -631,7 +631,6 @@ static int same_equilibrium(int n, double area, double area_ref, double pressure
     return fabs(area - area_ref) <= 2.0 / ((double)n * n) && fabs(pressure - pressure_ref) <= 1e-4 * scale;
 }
 
-/* The substrate's mean and rms height (the heights read back). */
 /* The n x n substrate of s, malloc'd (the caller frees it). */
 static double *heights_of(gfmd_sim *s, int n) {
     double *h = malloc((size_t)n * (size_t)n * sizeof *h);
@@ -641,14 +640,12 @@ static double *heights_of(gfmd_sim *s, int n) {
     return h;
 }
 
-static void height_stats(gfmd_sim *s, int n, double *mean, double *rms) {
-    const size_t np = (size_t)n * (size_t)n;
-    double *h = heights_of(s, n);
+/* The mean and rms of the np heights h. */
+static void height_stats(const double *h, size_t np, double *mean, double *rms) {
     double m = 0.0, m2 = 0.0;
     for (size_t i = 0; i < np; ++i) m += h[i];
     m /= (double)np;
     for (size_t i = 0; i < np; ++i) m2 += (h[i] - m) * (h[i] - m);
-    free(h);
     *mean = m;
     *rms = sqrt(m2 / (double)np);
 }
@@ -722,7 +719,11 @@ static int displacement_table(const double *sizes, int nsizes, const double *wid
                     }
                     if (st == GFMD_OK && adh) st = gfmd_set_adhesion(s, 5e-4, 1.0);
                     double mean = 0.0, rms = 0.0;
-                    if (gap_rms > 0.0) height_stats(s, n, &mean, &rms);
+                    if (gap_rms > 0.0) {
+                        double *h = heights_of(s, n);
+                        height_stats(h, (size_t)n * (size_t)n, &mean, &rms);
+                        free(h);
+                    }
                     if (st == GFMD_OK) st = gfmd_set_mean_displacement(s, gap_rms > 0.0 ? mean + gap_rms * rms : -below);
                     if (st != GFMD_OK) die(s, st, "displacement body");
                     int32_t active = -1;
@@ -764,13 +765,10 @@ static int displacement_table(const double *sizes, int nsizes, const double *wid
     return bad;
 }
 
-/* The fraction of the n x n substrate of s above the height m (the points above it counted). */
-static double fraction_above(gfmd_sim *s, int n, double m) {
-    const size_t np = (size_t)n * (size_t)n;
-    double *h = heights_of(s, n);
+/* The fraction of the np heights h above the height m (the points above it counted). */
+static double fraction_above(const double *h, size_t np, double m) {
     size_t above = 0;
     for (size_t i = 0; i < np; ++i) above += h[i] > m;
-    free(h);
     return (double)above / (double)np;
 }
 
@@ -814,8 +812,9 @@ static int choices_table(const double *sizes, int nsizes, const double *widths, 
                        S * area, solver_name(choice));
             }
             if (ngaps > 0) {
-                double mean = 0.0, rms = 0.0;
-                height_stats(s, n, &mean, &rms);
+                double mean = 0.0, rms = 0.0, *h = heights_of(s, n);
+                const size_t np = (size_t)n * (size_t)n;
+                height_stats(h, np, &mean, &rms);
                 for (int c = 0; c < ngaps; ++c) {
                     int32_t plain = -1, sticky = -1;
                     if ((st = gfmd_set_mean_displacement(s, mean + gaps[c] * rms)) != GFMD_OK) die(s, st, "displacement");
@@ -827,8 +826,9 @@ static int choices_table(const double *sizes, int nsizes, const double *widths, 
                     snprintf(what, sizeof what, "gap %g rms", gaps[c]);
                     snprintf(chose, sizeof chose, "%s, adh. %s", solver_name(plain), solver_name(sticky));
                     printf("%5d %7g %9.3g %9.3g | %-12s %9.4f %9s %9s %s\n", n, W, f, S, what,
-                           fraction_above(s, n, mean + gaps[c] * rms), "-", "-", chose);
+                           fraction_above(h, np, mean + gaps[c] * rms), "-", "-", chose);
                 }
+                free(h);
             }
             gfmd_sim_destroy(&s);
         }
