@@ -170,22 +170,24 @@ void complete_forces(const Completion &in, double *f, int64_t n, double *acc) {
 }
 
 namespace {
-// The modes of rows [r0, r1) of width nxh: the sum of k |Z|^2 over the full plane (column 0 and a
-// Nyquist column, weight w_last, once; the others twice, their k re^2 and k im^2 in kLanes lanes
-// of the row's interleaved doubles, the lanes added in order), per row, the rows in order; with
-// Scale, each mode *= -k inv_n on the way (Modes then non-const; without, read only).
-template <bool Scale, class Modes>
-inline __attribute__((always_inline)) double row_energies(Modes *work, const double *stiff, int64_t r0, int64_t r1,
-                                                          int64_t nxh, double inv_n, double w_last) {
-    static_assert(Scale ? !std::is_const_v<Modes> : true, "scaling writes the modes");
+// The pass over the modes of rows [r0, r1) of width nxh behind apply_stiffness, mode_energy and
+// precondition_modes: per row a sum over the full plane (column 0 and a Nyquist column, weight
+// w_last, once; the others twice, their re and im terms summed in kLanes lanes of the row's
+// interleaved doubles, the lanes added in order), the rows in order; with Mode::kScale each mode is
+// scaled on the way (Modes then non-const; without, read only).  Mode gives a column's term
+// (column 0 and the Nyquist correction, weight * ...), the quads' factor and term.
+template <class Mode, class Modes>
+inline __attribute__((always_inline)) double row_sums(Modes *work, const double *stiff, int64_t r0, int64_t r1,
+                                                      int64_t nxh, double w_last, const Mode &mode) {
+    static_assert(Mode::kScale ? !std::is_const_v<Modes> : true, "scaling writes the modes");
     using Real = std::conditional_t<std::is_const_v<Modes>, const double, double>;
     double energy = 0.0;
     for (int64_t r = r0; r < r1; ++r) {
         Real *row = reinterpret_cast<Real *>(work + r * nxh);  // re, im interleaved
         const double *krow = stiff + r * nxh;
-        double e = krow[0] * std::norm(work[r * nxh]);
-        if (nxh > 1) e += (w_last - 2.0) * krow[nxh - 1] * std::norm(work[r * nxh + nxh - 1]);
-        if constexpr (Scale) work[r * nxh] *= -krow[0] * inv_n;
+        double e = mode.column(1.0, krow[0], work[r * nxh]);
+        if (nxh > 1) e += mode.column(w_last - 2.0, krow[nxh - 1], work[r * nxh + nxh - 1]);
+        if constexpr (Mode::kScale) work[r * nxh] = mode.scaled(krow[0], work[r * nxh]);
         // columns 1 .. nxh - 1: 2 (nxh - 1) doubles, a quad holding two modes
         Quad lanes[2] = {};
         over_octets(2 * (nxh - 1), [&](auto full, int64_t i, int64_t m, int half) {
@@ -193,8 +195,9 @@ inline __attribute__((always_inline)) double row_energies(Modes *work, const dou
             const double k0 = m > 0 ? k[0] : 0.0, k1 = m > 2 ? k[1] : 0.0;  // no k past the row
             const Quad kk = {k0, k0, k1, k1};
             const Quad d = load_some(full, row + 2 + i, m, 0.0);
-            lanes[half] += kk * (d * d);
-            if constexpr (Scale) store_some(full, row + 2 + i, d * (-kk * inv_n), m);
+            const Quad ds = d * mode.factor(kk);
+            lanes[half] += mode.term(kk, d, ds);
+            if constexpr (Mode::kScale) store_some(full, row + 2 + i, ds, m);
         });
         double pairs = 0.0;
         add_lanes(lanes, &pairs);
@@ -202,16 +205,42 @@ inline __attribute__((always_inline)) double row_energies(Modes *work, const dou
     }
     return energy;
 }
+
+// The elastic energy sum of k |Z|^2, each mode scaled by -k inv_n if Scale.
+template <bool Scale>
+struct Energy {
+    static constexpr bool kScale = Scale;
+    double inv_n;
+    double column(double weight, double k, std::complex<double> z) const { return weight * k * std::norm(z); }
+    std::complex<double> scaled(double k, std::complex<double> z) const { return z * (-k * inv_n); }
+    Quad factor(Quad kk) const { return -kk * inv_n; }
+    Quad term(Quad kk, Quad d, Quad) const { return kk * (d * d); }
+};
+
+// Each mode scaled by inv_n / max(k, floor), and the sum of |scaled mode|^2.
+struct Precondition {
+    static constexpr bool kScale = true;
+    double inv_n, floor;
+    double column(double weight, double k, std::complex<double> z) const { return weight * std::norm(scaled(k, z)); }
+    std::complex<double> scaled(double k, std::complex<double> z) const { return z * (inv_n / std::max(k, floor)); }
+    Quad factor(Quad kk) const { return inv_n / blend(kk < floor, Quad{} + floor, kk); }  // std::max(k, floor)
+    Quad term(Quad, Quad, Quad ds) const { return ds * ds; }
+};
 }  // namespace
 
 double apply_stiffness(std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1, int64_t nxh,
                        double inv_n, double w_last) {
-    return row_energies<true>(work, stiff, r0, r1, nxh, inv_n, w_last);
+    return row_sums(work, stiff, r0, r1, nxh, w_last, Energy<true>{inv_n});
 }
 
 double mode_energy(const std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1, int64_t nxh,
                    double w_last) {
-    return row_energies<false>(work, stiff, r0, r1, nxh, 1.0, w_last);
+    return row_sums(work, stiff, r0, r1, nxh, w_last, Energy<false>{1.0});
+}
+
+double precondition_modes(std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1, int64_t nxh,
+                          double inv_n, double floor, double w_last) {
+    return row_sums(work, stiff, r0, r1, nxh, w_last, Precondition{inv_n, floor});
 }
 
 void fire_update(const FireUpdate &u, double *__restrict z, double *__restrict v,
@@ -268,16 +297,6 @@ void cg_mask(const double *z, const double *h, const double *f, double *zp, int6
         const Quad fq = load_some(full, f + i, m, 0.0);
         store_some(full, zp + i, select(~held(load_some(full, z + i, m, 1.0), load_some(full, h + i, m, 0.0), fq), fq), m);
     });
-}
-
-void precondition_modes(std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1, int64_t nxh,
-                    double inv_n, double floor) {
-    for (int64_t r = r0; r < r1; ++r) {
-        std::complex<double> *row = work + r * nxh;
-        const double *krow = stiff + r * nxh;
-#pragma omp simd
-        for (int64_t kx = 0; kx < nxh; ++kx) row[kx] *= inv_n / std::max(krow[kx], floor);
-    }
 }
 
 void cg_restrict(const double *z, const double *h, const double *f, double *zp, int64_t n, double *acc) {

@@ -44,14 +44,15 @@ struct MassUpdate {
 // [r0, r1) of width nxh, row *= -k inv_n, returning the energy sum of k |Z|^2 over the full plane
 // (column 0 and a Nyquist column, weight w_last, once; the others twice, their k re^2 and k im^2
 // summed in kLanes lanes per row), per row, the rows in order; mode_energy: the same sum without
-// the scaling (the surface CG's t.K.t).  mark_held: marks the points the wall holds (in contact, pushed into it) and
-// projects the force on the wall.  The surface CG's passes (SurfaceCg, cg.cpp), a point being held
-// where z <= h and f <= 0: cg_mask, zp = f where free, 0 where held; precondition_modes, the
-// preconditioner's Fourier rows *= inv_n / max(k, floor) (also mass-weighted FIRE's M^-1 in its
-// power iteration); cg_restrict, zp = 0 where held and
-// acc[0] += f.zp; cg_direction, t = s + b t where free, 0 where held, and acc[0] += f.t; cg_move,
-// z += alpha t stopped at the wall (to_wall: z = h where t < 0) and acc[0] += the points stopped,
-// the z it started from written to save unless save is null (the checked step's undo).
+// the scaling (the surface CG's t.K.t).  mark_held: marks the points the wall holds (in contact,
+// pushed into it) and projects the force on the wall.  The surface CG's passes (SurfaceCg, cg.cpp),
+// a point being held where z <= h and f <= 0: cg_mask, zp = f where free, 0 where held;
+// precondition_modes, the preconditioner's Fourier rows *= inv_n / max(k, floor), returning the sum
+// of |scaled mode|^2 over the full plane summed as apply_stiffness's (also mass-weighted FIRE's
+// M^-1, with |a|^2); cg_restrict, zp = 0 where held and acc[0] += f.zp; cg_direction, t = s + b t
+// where free, 0 where held, and acc[0] += f.t; cg_move, z += alpha t stopped at the wall
+// (to_wall: z = h where t < 0) and acc[0] += the points stopped, the z it started from written to
+// save unless save is null (the checked step's undo).
 // Polonsky & Keer's passes (PolonskyKeer, pk.cpp), a point being in the contact set where p > 0,
 // its gap g = (u + a) - h: pk_direction, t = g + beta t in the set, 0 elsewhere; pk_sums, acc[0..3]
 // += the sums over the set of r, t, r t and g t; pk_update, p = max(p - tau t, 0) in the set, -tau g
@@ -72,8 +73,8 @@ struct MassUpdate {
     void mass_update(const kernels::MassUpdate &u, double *z, double *v, const double *h, const double *a,     \
                      const unsigned char *held, int64_t n);                                                    \
     void cg_mask(const double *z, const double *h, const double *f, double *zp, int64_t n);                   \
-    void precondition_modes(std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1, int64_t nxh,  \
-                        double inv_n, double floor);                                                           \
+    double precondition_modes(std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1,          \
+                              int64_t nxh, double inv_n, double floor, double w_last);                         \
     void cg_restrict(const double *z, const double *h, const double *f, double *zp, int64_t n, double *acc);  \
     void cg_direction(const double *z, const double *h, const double *f, const double *s, double *t, double b, \
                       int64_t n, double *acc);                                                                 \

@@ -298,8 +298,9 @@ double SurfaceCg::precondition(const StepContext &c, double *zp) {
     grid.forward(zp, c.fields.work.data());
     std::complex<double> *work = c.fields.work.data();
     const double inv_n = 1.0 / static_cast<double>(grid.real_size()), floor = floor_;
-    grid.for_mode_rows(
-        [&](int64_t y0, int64_t y1) { kernels::use().precondition_modes(work, stiff, y0, y1, nxh, inv_n, floor); });
+    grid.for_mode_rows([&](int64_t y0, int64_t y1) {
+        (void)kernels::use().precondition_modes(work, stiff, y0, y1, nxh, inv_n, floor, 1.0);
+    });
     grid.backward(c.fields.work.data(), zp);
     return grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
         kernels::use().cg_restrict(z + i0, h + i0, f + i0, zp + i0, i1 - i0, acc);

@@ -128,7 +128,9 @@ double FireMass::masked_lambda(StepContext &c) {
         apply([&](int64_t r0, int64_t r1) {  // K
             for (int64_t k = r0 * nxh; k < r1 * nxh; ++k) work[k] *= stiff[k] * inv_n;
         });
-        apply([&](int64_t r0, int64_t r1) { kernels::use().precondition_modes(work, stiff, r0, r1, nxh, inv_n, floor); });
+        apply([&](int64_t r0, int64_t r1) {
+            (void)kernels::use().precondition_modes(work, stiff, r0, r1, nxh, inv_n, floor, 1.0);
+        });
         const double y2 = norm2();
         lambda = std::sqrt(y2 / x2);
         if (!(y2 > 0.0)) break;
@@ -164,7 +166,7 @@ double FireMass::hold_mean(StepContext &c, double *a) {
     const int64_t nxh = grid.nxh();
     const double inv_n = 1.0 / static_cast<double>(grid.real_size()), floor = floor_;
     apply_masked(grid, b, work, held, [&](int64_t r0, int64_t r1) {
-        kernels::use().precondition_modes(work, stiff, r0, r1, nxh, inv_n, floor);
+        (void)kernels::use().precondition_modes(work, stiff, r0, r1, nxh, inv_n, floor, 1.0);
     });
     const auto sums = grid.sum_points<3>([&](int64_t i0, int64_t i1, double *acc) {
         double sa = 0.0, sb = 0.0, sv = 0.0;
@@ -238,16 +240,10 @@ void FireMass::advance(StepContext &c) {
     const double inv_n = 1.0 / static_cast<double>(grid.real_size()), floor = floor_;
     std::complex<double> *work = c.fields.work.data();
     const double *stiff = c.body.stiffness.data();
-    // precondition_modes (masked_lambda, the surface CG) with |a|^2 summed in the same pass
+    // M^-1 (masked_lambda's, the surface CG's preconditioner) with |a|^2 summed in the same pass
+    const double w_last = grid.weight(nxh - 1);
     const auto a2 = grid.sum_mode_rows<1>([&](int64_t y0, int64_t y1, double *acc) {
-        for (int64_t r = y0; r < y1; ++r) {  // local mode rows
-            std::complex<double> *row = work + r * nxh;
-            const double *krow = stiff + r * nxh;
-            for (int64_t kx = 0; kx < nxh; ++kx) {
-                row[kx] *= inv_n / std::max(krow[kx], floor);
-                acc[0] += grid.weight(kx) * std::norm(row[kx]);
-            }
-        }
+        acc[0] += kernels::use().precondition_modes(work, stiff, y0, y1, nxh, inv_n, floor, w_last);
     });
     grid.backward(c.fields.work.data(), a);
     const double a_norm = (c.params.control == kDisplacementControl)

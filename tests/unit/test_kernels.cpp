@@ -156,7 +156,7 @@ struct Data {
 template <class Build>
 void run_cg(const Build &b, const Data &d, int64_t n, std::vector<double> &out) {
     std::vector<double> zp(n), t = d.v, z = d.z, zp2 = d.v;
-    double acc[3] = {};
+    double acc[4] = {};
     b.cg_mask(d.z.data(), d.h.data(), d.f.data(), zp.data(), n);
     b.cg_restrict(d.z.data(), d.h.data(), d.f.data(), zp2.data(), n, acc);
     b.cg_direction(d.z.data(), d.h.data(), d.f.data(), zp2.data(), t.data(), 0.7, n, acc + 1);
@@ -165,13 +165,15 @@ void run_cg(const Build &b, const Data &d, int64_t n, std::vector<double> &out) 
     b.cg_move(z.data(), d.h.data(), t.data(), 0.3, false, n, acc + 2, saved.data());
     std::vector<std::complex<double>> work(static_cast<std::size_t>(n));
     for (int64_t i = 0; i < n; ++i) work[i] = {d.f[i], d.v[i]};
-    b.precondition_modes(work.data(), d.h.data() /* any positive and negative "stiffness" */, 0, 1, n, 1.0 / 3.0, 0.2);
+    const double w_last = (n % 2 == 0) ? 1.0 : 2.0;  // both kinds of last column, by the length
+    acc[3] = b.precondition_modes(work.data(), d.h.data() /* any positive and negative "stiffness" */, 0, 1, n,
+                                  1.0 / 3.0, 0.2, w_last);
     for (const auto *a : {&zp, &zp2, &t, &z, &saved}) out.insert(out.end(), a->begin(), a->end());
     for (const auto &w : work) {
         out.push_back(w.real());
         out.push_back(w.imag());
     }
-    out.insert(out.end(), acc, acc + 3);
+    out.insert(out.end(), acc, acc + 4);
 }
 
 // Their definition, one point at a time (a point is held where z <= h and f <= 0).
@@ -179,9 +181,25 @@ struct CgReference {
     void cg_mask(const double *z, const double *h, const double *f, double *zp, int64_t n) const {
         for (int64_t i = 0; i < n; ++i) zp[i] = (z[i] <= h[i] && f[i] <= 0.0) ? 0.0 : f[i];
     }
-    void precondition_modes(std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1, int64_t nxh,
-                        double inv_n, double floor) const {
-        for (int64_t i = r0 * nxh; i < r1 * nxh; ++i) work[i] *= inv_n / std::max(stiff[i], floor);
+    // the modes scaled, and per row the sum of |scaled mode|^2 as the mode energy's (test_stiffness)
+    double precondition_modes(std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1, int64_t nxh,
+                              double inv_n, double floor, double w_last) const {
+        double sum = 0.0;
+        for (int64_t r = r0; r < r1; ++r) {
+            std::complex<double> *row = work + r * nxh;
+            for (int64_t kx = 0; kx < nxh; ++kx) row[kx] *= inv_n / std::max(stiff[r * nxh + kx], floor);
+            double e = std::norm(row[0]);
+            if (nxh > 1) e += (w_last - 2.0) * std::norm(row[nxh - 1]);
+            double lanes[kLanes] = {};
+            for (int64_t j = 0; j < 2 * (nxh - 1); ++j) {
+                const double x = (j % 2 == 0) ? row[1 + j / 2].real() : row[1 + j / 2].imag();
+                lanes[j % kLanes] += x * x;
+            }
+            double pairs = 0.0;
+            for (const double x : lanes) pairs += x;
+            sum += e + 2.0 * pairs;
+        }
+        return sum;
     }
     static void lanes_to(const double (&lanes)[kLanes], double *acc) {
         double t = 0.0;
