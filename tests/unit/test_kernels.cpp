@@ -77,6 +77,31 @@ double ulps(double got, double want) {
     return std::fabs(got - want) / (std::nextafter(std::fabs(want), HUGE_VAL) - std::fabs(want));
 }
 
+// mark_held against its definition, one point at a time: held where z <= h and f <= 0, the force
+// in contact std::max(f, 0) (-0 and NaN kept), elsewhere untouched; on every tail length, with
+// the edge values (z == h, f = +-0, NaN) among the points, and the byte after the last not written.
+void check_mark_held(const gfmd::kernels::Table &b) {
+    const double edge_f[] = {0.0, -0.0, 1.0, -1.0, std::nan(""), 1e-300, -1e-300};
+    const double edge_z[] = {0.0, -1e-300, 1e-300, -1.0, 1.0};
+    for (int64_t n = 1; n <= 37; ++n) {
+        std::vector<double> z(n), h(n, 0.0), f(n), expect(n);
+        std::vector<unsigned char> marks(static_cast<std::size_t>(n) + 1, 7), want(static_cast<std::size_t>(n) + 1, 7);
+        for (int64_t i = 0; i < n; ++i) {
+            z[i] = edge_z[(i * 3 + n) % 5];
+            f[i] = edge_f[(i + n) % 7];
+            const bool contact = z[i] <= h[i];
+            want[i] = (contact && f[i] <= 0.0) ? 1 : 0;
+            expect[i] = contact ? std::max(f[i], 0.0) : f[i];
+        }
+        b.mark_held(z.data(), h.data(), f.data(), marks.data(), n);
+        expect_same("mark_held", n, expect.data(), f.data(), n);
+        if (marks != want) {
+            std::printf("FAIL mark_held's marks, n = %" PRId64 " (%s)\n", n, b.name);
+            ++failures;
+        }
+    }
+}
+
 // The passes' exponential, read off the adhesive weight sum of single points (h = 0, z = -x,
 // inv_rho = 1: the sum of one point with zero start is exp(x) itself), against std::exp; the
 // normal range and its ends: 0 below -708.39, infinity above 709.78, NaN for NaN.
@@ -437,8 +462,12 @@ int main() {
         ++failures;
     }
     check_exp(base);
+    check_mark_held(base);
 #ifdef GFMD_KERNELS_V3
-    if (have_v3) check_exp(v3);
+    if (have_v3) {
+        check_exp(v3);
+        check_mark_held(v3);
+    }
 #endif
     std::mt19937_64 rng(2016);
     std::vector<int64_t> lengths;
