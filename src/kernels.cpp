@@ -170,6 +170,35 @@ void complete_forces(const Completion &in, double *f, int64_t n, double *acc) {
 }
 
 namespace {
+// The free points' stress sums in lanes (over_octets).  Pads of the last octet: a point on the
+// wall (z = 0, h = 1), which is not free and adds nothing.
+template <bool Adhesive>
+inline __attribute__((always_inline)) void free_sums(const double *z, const double *h, const double *f,
+                                                     double adh_coef, double inv_rho, int64_t n, double *acc) {
+    const Quad one = Quad{} + 1.0;
+    Quad stress[2] = {}, count[2] = {};
+    over_octets(n, [&](auto full, int64_t i, int64_t m, int half) {
+        const Quad g = load_some(full, z + i, m, 0.0) - load_some(full, h + i, m, 1.0);
+        Quad si = load_some(full, f + i, m, 0.0);
+        if constexpr (Adhesive) si -= adh_coef * exp_quad(-g * inv_rho);
+        const QuadMask free = g > 0.0;
+        stress[half] += select(free, si);
+        count[half] += select(free, one);
+    });
+    add_lanes(stress, acc);
+    add_lanes(count, acc + 1);
+}
+}  // namespace
+
+void free_stress_sums(const double *z, const double *h, const double *f, double adh_coef, double inv_rho, int64_t n,
+                      double *acc) {
+    if (adh_coef > 0.0)
+        free_sums<true>(z, h, f, adh_coef, inv_rho, n, acc);
+    else
+        free_sums<false>(z, h, f, adh_coef, inv_rho, n, acc);
+}
+
+namespace {
 // The pass over the modes of rows [r0, r1) of width nxh behind apply_stiffness, mode_energy and
 // precondition_modes: per row a sum over the full plane (column 0 and a Nyquist column, weight
 // w_last, once; the others twice, their re and im terms summed in kLanes lanes of the row's

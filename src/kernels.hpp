@@ -30,6 +30,9 @@ struct Completion {
     const double *z, *h, *v;
     double sigma0, adh_coef, inv_rho, inv_ref;
 };
+// free_stress_sums: the stress f - adh_coef exp(-(z-h) inv_rho) (the exponential only if adh_coef
+// > 0) of the free points (z > h) of [0, n) added to acc[0], their count to acc[1] (the mean
+// pressure under displacement control, evaluate_forces()).
 // FIRE 2.0's update of points [0, n) with the wall (Fire::advance()).
 struct FireUpdate {
     double dt, keep, mix, back;
@@ -63,6 +66,8 @@ struct MassUpdate {
 // k = 0): the compliance.
 #define GFMD_KERNEL_DECLARATIONS                                                                               \
     void complete_forces(const kernels::Completion &in, double *f, int64_t n, double *acc);                   \
+    void free_stress_sums(const double *z, const double *h, const double *f, double adh_coef, double inv_rho,  \
+                          int64_t n, double *acc);                                                             \
     double apply_stiffness(std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1, int64_t nxh, \
                            double inv_n, double w_last);                                                       \
     double mode_energy(const std::complex<double> *work, const double *stiff, int64_t r0, int64_t r1,          \
@@ -105,7 +110,7 @@ namespace kernels {
 
 // X(ns, name) for every pass of the declarations above.
 #define GFMD_KERNEL_NAMES(X, ns)                                                                            \
-    X(ns, complete_forces) X(ns, apply_stiffness) X(ns, mode_energy) X(ns, fire_update) X(ns, mark_held) X(ns, mass_update)      \
+    X(ns, complete_forces) X(ns, free_stress_sums) X(ns, apply_stiffness) X(ns, mode_energy) X(ns, fire_update) X(ns, mark_held) X(ns, mass_update)      \
     X(ns, cg_mask) X(ns, precondition_modes) X(ns, cg_restrict) X(ns, cg_direction) X(ns, cg_move)                \
     X(ns, pk_direction) X(ns, pk_sums) X(ns, pk_update) X(ns, pk_scale) X(ns, pk_approach) X(ns, pk_gap)       \
     X(ns, pk_scale_modes)

@@ -159,6 +159,7 @@ double FireMass::hold_mean(StepContext &c, double *a) {
     const unsigned char *held = held_.data();
     double *b = mean_response_.data(), *v = c.fields.v.data();
     grid.for_points([&](int64_t i0, int64_t i1) {
+#pragma omp simd
         for (int64_t i = i0; i < i1; ++i) b[i] = held[i] ? 0.0 : 1.0;
     });
     std::complex<double> *work = c.fields.work.data();
@@ -170,6 +171,7 @@ double FireMass::hold_mean(StepContext &c, double *a) {
     });
     const auto sums = grid.sum_points<3>([&](int64_t i0, int64_t i1, double *acc) {
         double sa = 0.0, sb = 0.0, sv = 0.0;
+#pragma omp simd reduction(+ : sa, sb, sv)
         for (int64_t i = i0; i < i1; ++i) {
             sa += held[i] ? 0.0 : a[i];
             sb += b[i];  // zero where held (apply_masked)
@@ -183,6 +185,7 @@ double FireMass::hold_mean(StepContext &c, double *a) {
     const double la = (sums[1] > 0.0) ? sums[0] / sums[1] : 0.0, lv = (sums[1] > 0.0) ? sums[2] / sums[1] : 0.0;
     const auto a2 = grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
         double t = 0.0;
+#pragma omp simd reduction(+ : t)
         for (int64_t i = i0; i < i1; ++i) {
             const double ai = held[i] ? 0.0 : a[i] - la * b[i];
             a[i] = ai;

@@ -72,6 +72,24 @@ void complete_reference(const Completion &in, double *f, int64_t n, double *acc)
     }
 }
 
+// The free points' stress sums (free_stress_sums) by their definition, in the passes' lanes.
+void free_stress_reference(const double *z, const double *h, const double *f, double adh_coef, double inv_rho,
+                           int64_t n, double *acc) {
+    double lanes[2][kLanes] = {};
+    for (int64_t i = 0; i < n; ++i) {
+        const double g = z[i] - h[i];
+        if (!(g > 0.0)) continue;
+        const double s = f[i] - (adh_coef > 0.0 ? adh_coef * std::exp(-g * inv_rho) : 0.0);
+        lanes[0][i % kLanes] += s;
+        lanes[1][i % kLanes] += 1.0;
+    }
+    for (int k = 0; k < 2; ++k) {
+        double t = 0.0;
+        for (int l = 0; l < kLanes; ++l) t += lanes[k][l];
+        acc[k] += t;
+    }
+}
+
 double ulps(double got, double want) {
     if (got == want) return 0.0;
     return std::fabs(got - want) / (std::nextafter(std::fabs(want), HUGE_VAL) - std::fabs(want));
@@ -358,6 +376,8 @@ void run_build(const gfmd::kernels::Table &b, int64_t n, bool adhesive, const Da
     f_out = d.f;
     for (int k = 0; k < 6; ++k) acc[k] = 0.25;  // adds onto acc
     b.complete_forces(in, f_out.data(), n, acc);
+    double free_acc[2] = {0.25, 0.25};  // adds onto acc
+    b.free_stress_sums(d.z.data(), d.h.data(), d.f.data(), in.adh_coef, in.inv_rho, n, free_acc);
     // the FIRE update (downhill, then uphill), the mass-weighted one
     std::vector<double> z = d.z, v = d.v, a = d.f;
     b.fire_update(FireUpdate{0.3, 0.9, 0.07, 0.0, false}, z.data(), v.data(), d.h.data(), d.f.data(), n);
@@ -369,6 +389,7 @@ void run_build(const gfmd::kernels::Table &b, int64_t n, bool adhesive, const Da
     zv_out.insert(zv_out.end(), v.begin(), v.end());
     zv_out.insert(zv_out.end(), a.begin(), a.end());
     for (int64_t i = 0; i < n; ++i) zv_out.push_back(held[i]);
+    zv_out.insert(zv_out.end(), free_acc, free_acc + 2);
     // Fourier space: the rows of a spectrum of n / 3 + 1 columns (odd and even widths)
     const int64_t nxh = n / 3 + 1, rows = 3;
     std::vector<std::complex<double>> work(static_cast<std::size_t>(nxh * rows));
@@ -499,6 +520,15 @@ int main() {
                 expect_close(what, n, f_ref.data(), f_base.data(), n, 1.0);
                 expect_close(what, n, acc_ref, acc_base, 6, 4.0);
             }
+            // the free points' stress sums: exact without adhesion; with it the terms f - adh_coef w
+            // move by at most one ulp (as the forces above), the sum (from 0.25) within 4 ulp
+            double free_ref[2] = {0.25, 0.25}, free_base[2] = {0.25, 0.25};
+            free_stress_reference(d.z.data(), d.h.data(), d.f.data(), in.adh_coef, in.inv_rho, n, free_ref);
+            base.free_stress_sums(d.z.data(), d.h.data(), d.f.data(), in.adh_coef, in.inv_rho, n, free_base);
+            if (!adhesive)
+                expect_same("free stress", n, free_ref, free_base, 2);
+            else
+                expect_close("free stress", n, free_ref, free_base, 2, 4.0);
             // the contacts are counted exactly
             int64_t touching = 0;
             for (int64_t i = 0; i < n; ++i) touching += (d.z[i] <= d.h[i]) ? 1 : 0;
