@@ -110,7 +110,8 @@ namespace kernels {
 
 // X(ns, name) for every pass of the declarations above.
 #define GFMD_KERNEL_NAMES(X, ns)                                                                            \
-    X(ns, complete_forces) X(ns, free_stress_sums) X(ns, apply_stiffness) X(ns, mode_energy) X(ns, fire_update) X(ns, mark_held) X(ns, mass_update)      \
+    X(ns, complete_forces) X(ns, free_stress_sums) X(ns, apply_stiffness) X(ns, mode_energy) X(ns, fire_update)  \
+    X(ns, mark_held) X(ns, mass_update)                                                                       \
     X(ns, cg_mask) X(ns, precondition_modes) X(ns, cg_restrict) X(ns, cg_direction) X(ns, cg_move)                \
     X(ns, pk_direction) X(ns, pk_sums) X(ns, pk_update) X(ns, pk_scale) X(ns, pk_approach) X(ns, pk_gap)       \
     X(ns, pk_scale_modes)
