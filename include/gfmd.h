@@ -273,7 +273,8 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * so gfmd_set_timestep() does not apply) or
  * GFMD_SOLVER_VERLET (damped dynamics).  All share the forces, the wall and the convergence
  * criterion, and reach the same equilibrium.  A step of GFMD_SOLVER_FIRE_MASS costs two FFT pairs
- * instead of one (three under displacement control, where it also writes 8 bytes per point more)
+ * instead of one (under displacement control a third on steps where the set of points the wall holds
+ * changed, and it writes 9 bytes per point more)
  * and it needs one byte per point more (GFMD_ERR_NOMEM, nothing changed, if that
  * cannot be had); it pays on thin sheets and at low loads, where it needs 3-7x fewer steps than FIRE
  * (test_cg_reference)

@@ -35,7 +35,8 @@ void apply_masked(const FftGrid &grid, double *x, std::complex<double> *work, co
 }  // namespace
 
 FireMass::FireMass(const FireMass &o)
-    : Solver(o), control_(o.control_), held_(o.held_.size()), mean_response_(o.mean_response_.size()), floor_(o.floor_), mass_dt_(o.mass_dt_),
+    : Solver(o), control_(o.control_), held_(o.held_.size()), mean_response_(o.mean_response_.size()),
+      response_held_(o.response_held_.size()), floor_(o.floor_), mass_dt_(o.mass_dt_),
       inv_m_(o.inv_m_), bucket_(o.bucket_), estimate_(o.estimate_), lambda_(o.lambda_) {}
 
 std::vector<double> FireMass::state() const {
@@ -56,6 +57,7 @@ void FireMass::set_state(const std::vector<double> &s) {
     control_.set_state(std::vector<double>(s.begin(), s.begin() + static_cast<std::ptrdiff_t>(nc)));
     lambda_ = lambda;
     bucket_ = -1;
+    response_valid_ = false;
 }
 
 // The mass floor of mass-weighted FIRE.  A body pressed onto a substrate at contact fraction phi
@@ -158,17 +160,34 @@ double FireMass::hold_mean(StepContext &c, double *a) {
     const FftGrid &grid = c.grid;
     const unsigned char *held = held_.data();
     double *b = mean_response_.data(), *v = c.fields.v.data();
-    grid.for_points([&](int64_t i0, int64_t i1) {
+    // B 1 again only where the held set or the floor changed since it was computed (over all
+    // ranks): near the equilibrium most steps keep both, and the FFT pair is a third of a step.
+    unsigned char *kept = response_held_.data();
+    const bool same = response_valid_ && response_floor_ == floor_ &&
+                      grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
+                          double changed = 0.0;
+#pragma omp simd reduction(+ : changed)
+                          for (int64_t i = i0; i < i1; ++i) changed += (held[i] != kept[i]) ? 1.0 : 0.0;
+                          acc[0] += changed;
+                      })[0] == 0.0;
+    if (!same) {
+        grid.for_points([&](int64_t i0, int64_t i1) {
 #pragma omp simd
-        for (int64_t i = i0; i < i1; ++i) b[i] = held[i] ? 0.0 : 1.0;
-    });
-    std::complex<double> *work = c.fields.work.data();
-    const double *stiff = c.body.stiffness.data();
-    const int64_t nxh = grid.nxh();
-    const double inv_n = 1.0 / static_cast<double>(grid.real_size()), floor = floor_;
-    apply_masked(grid, b, work, held, [&](int64_t r0, int64_t r1) {
-        (void)kernels::use().precondition_modes(work, stiff, r0, r1, nxh, inv_n, floor, 1.0);
-    });
+            for (int64_t i = i0; i < i1; ++i) {
+                b[i] = held[i] ? 0.0 : 1.0;
+                kept[i] = held[i];
+            }
+        });
+        std::complex<double> *work = c.fields.work.data();
+        const double *stiff = c.body.stiffness.data();
+        const int64_t nxh = grid.nxh();
+        const double inv_n = 1.0 / static_cast<double>(grid.real_size()), floor = floor_;
+        apply_masked(grid, b, work, held, [&](int64_t r0, int64_t r1) {
+            (void)kernels::use().precondition_modes(work, stiff, r0, r1, nxh, inv_n, floor, 1.0);
+        });
+        response_floor_ = floor_;
+        response_valid_ = true;
+    }
     const auto sums = grid.sum_points<3>([&](int64_t i0, int64_t i1, double *acc) {
         double sa = 0.0, sb = 0.0, sv = 0.0;
 #pragma omp simd reduction(+ : sa, sb, sv)

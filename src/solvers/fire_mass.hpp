@@ -14,16 +14,18 @@ class FireMass final : public Solver {
 public:
     // One byte per point: the mask of the points the wall holds.  estimate = false: the step of the
     // unmasked modes (lambda_max = 1), as GFMD_SOLVER_MASS_FIRE's approach takes it (mass_fire.hpp).
-    // Under displacement control one grid-sized field more (hold_mean()), written only then: a
-    // buffer costs memory once written (buffer.hpp).
+    // Under displacement control one grid-sized field and a byte per point more (hold_mean()),
+    // written only then: a buffer costs memory once written (buffer.hpp).
     explicit FireMass(const FftGrid &grid, bool estimate = true)
         : held_(static_cast<std::size_t>(grid.local_points())),
-          mean_response_(static_cast<std::size_t>(grid.local_points())), estimate_(estimate) {}
+          mean_response_(static_cast<std::size_t>(grid.local_points())),
+          response_held_(static_cast<std::size_t>(grid.local_points())), estimate_(estimate) {}
     FireMass(const FireMass &o);
     void restart(const Dynamics &) override {
         control_.restart(kFireDtStart);  // a fraction of its own time step, mass_dt_
         bucket_ = -1;
         lambda_.fill(0.0);
+        response_valid_ = false;  // the body may have changed
     }
     void advance(StepContext &c) override;
     std::unique_ptr<Solver> clone() const override { return std::make_unique<FireMass>(*this); }
@@ -43,7 +45,13 @@ private:
     double hold_mean(StepContext &c, double *a);
     FireControl control_;
     ByteBuffer held_;  // 1 where the wall holds the body (scratch of one step)
-    RealBuffer mean_response_;  // under displacement control: P M^-1 P 1 (scratch of one step)
+    // Under displacement control: P M^-1 P 1, kept while the held set (response_held_, a copy of
+    // held_ when it was computed) and the floor (response_floor_) stay the same: it is a function
+    // of them, so a kept one has the bits a new one would have.
+    RealBuffer mean_response_;
+    ByteBuffer response_held_;
+    double response_floor_ = 0.0;
+    bool response_valid_ = false;
     // Masses m(q) = max(k(q), floor_), chosen for the contact-count bucket bucket_
     // (floor(log2(contacts)), -1 = not chosen yet); the time step they allow.
     double floor_ = 0.0, mass_dt_ = 0.0, inv_m_ = 0.0;
