@@ -1,0 +1,128 @@
+// The surface CG's safety net, from the inside (src/solvers/cg.cpp, SurfaceCg::sufficient_decrease):
+// a step the wall stopped must lower the energy by Armijo's rule; if no backtrack does, the step is
+// undone (z from the scratch, bit for bit) and the next direction is the projected force itself,
+// along which a small enough step always descends.  Honest inputs reach that path only by rounding,
+// so the test injects the failure: the solver is handed the forces of the current surface with an
+// elastic energy lowered by far more than any step can change it, so that every trial step, each
+// evaluated from the surface it produces, looks as if it had raised the energy.  Then:
+//  - the surface is the start's, bit for bit, and the solver's state says "steepest next";
+//  - with the true forces the next step's direction is the projected force, bit for bit (zero where
+//    the wall holds the body), its step was checked (points reached the wall) and accepted, and the
+//    energy U_el + sigma0 A mean(z), evaluated afresh, fell.
+// A library without the undo leaves the surface moved; one that forgets the steepest direction
+// takes the preconditioned one (M^-1 F, not F) and keeps its state at 0 or 1.
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <vector>
+
+#include "fft_grid.hpp"
+#include "fields.hpp"
+#include "forces.hpp"
+#include "green.hpp"
+#include "params.hpp"
+#include "solvers/cg.hpp"
+
+namespace {
+
+int failures = 0;
+
+void expect(bool ok, const char *what) {
+    std::printf("%s %s\n", ok ? "ok  " : "FAIL", what);
+    if (!ok) ++failures;
+}
+
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+// The energy the surface CG minimizes under pressure control: U_el + sigma0 A mean(z).
+double energy(const gfmd::FftGrid &grid, const gfmd::Params &p, const gfmd::ForceState &fs, const double *z) {
+    double sum = 0.0;
+    for (int64_t i = 0; i < grid.real_size(); ++i) sum += z[i];
+    return fs.u_el + p.sigma0 * grid.area_per_point() * sum;
+}
+
+}  // namespace
+
+int main() {
+    using namespace gfmd;
+    // A thin sheet on a fluid foundation at a low load, flat at the highest peak: the
+    // preconditioned CG's first step pushes the soft sheet down onto the substrate, where the wall
+    // stops points, so the step is checked (the case the check was built for, cg.cpp).
+    const int64_t n = 64;
+    FftGrid grid(n, n, static_cast<double>(n), static_cast<double>(n), 1, GFMD_PLANNER_ESTIMATE);
+    Params p;
+    p.kind = GFMD_GREEN_LAYER_FLUID;
+    p.width = 2.0;
+    p.sigma0 = 1e-4;
+    p.solver = GFMD_SOLVER_CG;
+    const Body body = make_body(grid, p.kind, p.width, p.e_star, p.nu);
+    Fields fields(grid);
+    const double two_pi = 2.0 * std::acos(-1.0);
+    for (int64_t y = 0; y < n; ++y)
+        for (int64_t x = 0; x < n; ++x) {
+            const double sx = two_pi * static_cast<double>(x) / static_cast<double>(n);
+            const double sy = two_pi * static_cast<double>(y) / static_cast<double>(n);
+            fields.h.data()[y * n + x] = std::cos(sx) * std::cos(2.0 * sy) + 0.3 * std::sin(3.0 * sx + sy) - 1.3;
+        }
+    fields.put_flat_at_rest(grid);
+    const Dynamics d = dynamics_for(p, body);
+    ConjugateGradient cg(grid);
+    cg.restart(d);
+
+    const std::size_t points = static_cast<std::size_t>(grid.real_size());
+    const double *z = fields.z.data(), *h = fields.h.data(), *f = fields.f.data(), *t = fields.v.data();
+    ForceState fs = evaluate_forces(grid, p, body, fields);
+    const std::vector<double> z0(z, z + points), f0(f, f + points);
+    const double e0 = energy(grid, p, fs, z);
+
+    // 1. Every trial step rejected: lower the reference energy by a hundred times the energy's size
+    // (the check's rounding slack is 1e-12 of it, so no trial step can pass).
+    ForceState lie = fs;
+    lie.u_el -= 100.0 * (std::fabs(e0) + 1.0);
+    {
+        StepContext c{grid, p, body, d, lie, fields};
+        cg.advance(c);
+    }
+    bool undone = true;
+    for (std::size_t i = 0; i < points; ++i) undone = undone && same_bits(z[i], z0[i]);
+    expect(undone, "a step no backtrack rescues is undone: z is the start's, bit for bit");
+    expect(cg.state()[1] == 2.0, "the solver's state then says: the next direction is the force");
+
+    // 2. The true forces of the unchanged surface, and the next step.
+    fs = evaluate_forces(grid, p, body, fields);
+    bool same_forces = true;
+    for (std::size_t i = 0; i < points; ++i) same_forces = same_forces && same_bits(f[i], f0[i]);
+    expect(same_forces, "the forces of the restored surface are the start's");
+    {
+        StepContext c{grid, p, body, d, fs, fields};
+        cg.advance(c);
+    }
+    // the direction: the projected force (t = F where the body may move, 0 where the wall holds it)
+    bool along_force = true;
+    int64_t held = 0, landed = 0;
+    for (std::size_t i = 0; i < points; ++i) {
+        const bool wall = z0[i] <= h[i] && f0[i] <= 0.0;
+        held += wall ? 1 : 0;
+        along_force = along_force && same_bits(t[i], wall ? 0.0 : f0[i]);
+        landed += (z0[i] > h[i] && z[i] == h[i]) ? 1 : 0;
+    }
+    std::printf("     %" PRId64 " points held at the start, %" PRId64 " landed on the wall in the step\n", held, landed);
+    expect(along_force, "the step after it goes along the projected force, bit for bit");
+    expect(landed > 0, "the wall stopped points in that step (it was checked)");
+    expect(cg.state()[1] != 2.0, "the checked steepest step was accepted");
+    const ForceState after = evaluate_forces(grid, p, body, fields);
+    const double e1 = energy(grid, p, after, z);
+    std::printf("     energy %.17g -> %.17g\n", e0, e1);
+    // Armijo's rule asks for a decrease of at least 1e-4 of the first-order prediction; strictly
+    // lower is what a caller relies on (the check's rounding slack, 1e-12 of the energy, is far
+    // below the decrease of a first step from flat).
+    expect(e1 < e0, "and the energy fell");
+
+    if (failures > 0) {
+        std::printf("test_solvers: %d failure(s)\n", failures);
+        return 1;
+    }
+    std::printf("test_solvers: all passed\n");
+    return 0;
+}
