@@ -45,6 +45,11 @@
  *                                pressures by more than 1e-4 of the pressure scale (without
  *                                adhesion: one equilibrium)
  *
+ *   gfmd_bench --random K [--seed S] [--sizes 128,256]
+ *                                K bodies drawn at random (body, width, roughness, load, control,
+ *                                adhesion), each by the default and every solver that takes it,
+ *                                with the ratio of the default's seconds to the fastest's
+ *
  * --contention: threads on a shared machine.  For each size, a half-space (seed 1, sigma0 = 0.05)
  * is created (planning included) and relaxed from flat to the default tolerance with one thread
  * and with the default thread count, on a quiet machine and while a busy-loop competitor (a child
@@ -839,6 +844,156 @@ static int choices_table(const double *sizes, int nsizes, const double *widths, 
 /* --big: one point at 4096^2 (or --sizes), a W = 1 layer on a fluid foundation from flat to the
  * default tolerance with the default solver, on --threads threads (default 2): planning and
  * relaxation timed apart. */
+/* --random: bodies drawn at random, none chosen by hand, so that the default's choice is timed
+ * on bodies its rule was not measured on.  Each body, from a portable generator seeded by --seed:
+ * the grid from --sizes; a half-space, a layer on a fluid foundation or a bonded one (w = 0.5a ...
+ * 2000a log-uniform, nu = 0 ... 0.5); a self-affine substrate (H = 0.3 ... 1, lambda_s = 2, 4 or 8
+ * a, lambda_r = 2 ... 16 lambda_s up to the cell, uniform or Gaussian, rms gradient 1); a load at
+ * Persson's A/A0 = 0.001 ... 0.8 (log-uniform), under displacement control in a quarter of the
+ * bodies (the mean position where that fraction of the substrate lies above, at least 0.05 rms
+ * above its mean); adhesion in a third (gamma0 = g (0.05 sigma0 + 1e-4 E*) a, g = e^-2 ... e^2,
+ * rho = a/2, a or 2a).  From flat to the default tolerance by the default and by every solver
+ * that takes the body (FIRE, mass-weighted FIRE, the approach then FIRE, and without adhesion
+ * CG), each on a clone of the same start, one thread; a run under 0.05 s is repeated up to five
+ * times and its fastest kept.  Prints each body with the default's choice and the ratio of its
+ * seconds to the fastest solver's, then the sums over the bodies (what one fixed solver for all of
+ * them would have cost).  Without adhesion (one equilibrium) the runs must agree (A/A0 within two
+ * points, the mean pressure within 1e-4 of its scale): the program fails otherwise. */
+enum { RANDOM_SOLVERS = 5 };
+static const int32_t random_solvers[RANDOM_SOLVERS] = {GFMD_SOLVER_AUTO, GFMD_SOLVER_FIRE, GFMD_SOLVER_FIRE_MASS,
+                                                       GFMD_SOLVER_MASS_FIRE, GFMD_SOLVER_CG};
+
+/* splitmix64: the same bodies from a seed on every machine */
+static double random_unit(uint64_t *state) {
+    uint64_t z = (*state += 0x9E3779B97F4A7C15ULL);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+    z ^= z >> 31;
+    return (double)(z >> 11) * 0x1.0p-53;
+}
+
+static double random_log(uint64_t *state, double lo, double hi) {
+    return exp(log(lo) + random_unit(state) * (log(hi) - log(lo)));
+}
+
+static int compare_doubles(const void *a, const void *b) {
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* seconds of one solver on a clone of start (the fastest of up to five runs under 0.05 s) */
+static double random_run(const gfmd_sim *start, int32_t solver, int32_t *active, double *area, double *pressure) {
+    double best = INFINITY;
+    for (int rep = 0; rep < 5 && (rep == 0 || best < 0.05); ++rep) {
+        gfmd_sim *s = NULL;
+        int32_t st;
+        if ((st = gfmd_sim_clone(start, &s)) != GFMD_OK) die(NULL, st, "clone");
+        if ((st = gfmd_set_solver(s, solver)) != GFMD_OK) die(s, st, "solver");
+        int64_t steps = 0;
+        const double t0 = now();
+        if ((st = gfmd_relax(s, 0.0, 10000000, &steps)) != GFMD_OK) die(s, st, "relax");
+        const double t = now() - t0;
+        best = t < best ? t : best;
+        gfmd_get_solver(s, active);
+        gfmd_get_contact_area(s, area);
+        gfmd_get_mean_pressure(s, pressure);
+        gfmd_sim_destroy(&s);
+    }
+    return best;
+}
+
+static int random_table(const double *sizes, int nsizes, int count, uint64_t seed) {
+    static const char *const kinds[3] = {"half", "fluid", "bonded"};
+    static const char *const heads[RANDOM_SOLVERS] = {"auto", "FIRE", "mass", "m+FIRE", "CG"};
+    uint64_t rng = seed;
+    double sums[2][RANDOM_SOLVERS + 1] = {{0}}; /* [adhesive][solver], the last: the fastest's */
+    int bodies[2] = {0, 0}, within12 = 0, within15 = 0, failed = 0, worst_body = -1;
+    double worst = 0.0;
+    printf("gfmd %s benchmark: %d random bodies (seed %llu), one thread, FFTW_MEASURE, default tol %.0e; seconds "
+           "from flat, '-': the solver does not take the body\n", gfmd_version(), count, (unsigned long long)seed,
+           GFMD_DEFAULT_TOL);
+    printf("%4s %5s %6s %8s %4s %4s %3s %4s %4s %8s %5s %3s | %-10s %8s | %8s %8s %8s %8s | %6s\n", "#", "n", "body",
+           "w/a", "nu", "H", "ls", "lr", "dist", "Persson", "ctrl", "adh", "default", "s", "FIRE", "mass", "m+FIRE", "CG",
+           "ratio");
+    for (int b = 0; b < count; ++b) {
+        const int n = (int)sizes[(int)(random_unit(&rng) * nsizes)];
+        const int kind = (int)(random_unit(&rng) * 3.0);
+        const double width = random_log(&rng, 0.5, 2000.0), nu = 0.5 * random_unit(&rng);
+        const double hurst = 0.3 + 0.7 * random_unit(&rng);
+        const double ls = (double)(2 << (int)(random_unit(&rng) * 3.0));
+        double lr = ls * (double)(2 << (int)(random_unit(&rng) * 4.0));
+        lr = lr > n ? n : lr;
+        const int gaussian = random_unit(&rng) < 0.5;
+        const double area = random_log(&rng, 1e-3, 0.8);
+        const int displacement = random_unit(&rng) < 0.25, adhesive = random_unit(&rng) < 1.0 / 3.0;
+        const double gfac = random_log(&rng, exp(-2.0), exp(2.0));
+        const double rho = 0.5 * (double)(1 << (int)(random_unit(&rng) * 3.0));
+        gfmd_sim *s = NULL;
+        int32_t st;
+        if ((st = gfmd_sim_create_ex(n, n, n, n, 1, GFMD_PLANNER_MEASURE, &s)) != GFMD_OK) die(NULL, st, "create");
+        if ((st = gfmd_generate_selfaffine(s, hurst, lr, ls, 1.0, seed * 1000u + (uint64_t)b,
+                                           gaussian ? GFMD_DIST_GAUSSIAN : GFMD_DIST_UNIFORM)) != GFMD_OK)
+            die(s, st, "substrate");
+        if (kind == 2 && (st = gfmd_set_poisson(s, nu)) != GFMD_OK) die(s, st, "poisson");
+        if (kind > 0 && (st = gfmd_set_green(s, kind == 1 ? GFMD_GREEN_LAYER_FLUID : GFMD_GREEN_LAYER_BONDED, width)) != GFMD_OK)
+            die(s, st, "green");
+        const double sigma0 = persson_load(s, area);
+        if (displacement) {
+            const size_t np = (size_t)n * (size_t)n;
+            double *h = heights_of(s, n), mean, rms;
+            height_stats(h, np, &mean, &rms);
+            qsort(h, np, sizeof *h, compare_doubles);
+            double d = h[(size_t)((1.0 - area) * (double)(np - 1))];
+            d = d > mean + 0.05 * rms ? d : mean + 0.05 * rms;
+            free(h);
+            if ((st = gfmd_set_mean_displacement(s, d)) != GFMD_OK) die(s, st, "mean displacement");
+        } else if ((st = gfmd_set_pressure(s, sigma0)) != GFMD_OK)
+            die(s, st, "pressure");
+        if (adhesive && (st = gfmd_set_adhesion(s, gfac * (0.05 * sigma0 + 1e-4), rho)) != GFMD_OK) die(s, st, "adhesion");
+        double secs[RANDOM_SOLVERS], areas[RANDOM_SOLVERS], pressures[RANDOM_SOLVERS];
+        int32_t active[RANDOM_SOLVERS] = {0};
+        double fastest = INFINITY;
+        char cols[RANDOM_SOLVERS][16];
+        for (int k = 0; k < RANDOM_SOLVERS; ++k) {
+            secs[k] = NAN;
+            snprintf(cols[k], sizeof cols[k], "-");
+            if (adhesive && random_solvers[k] == GFMD_SOLVER_CG) continue;
+            secs[k] = random_run(s, random_solvers[k], &active[k], &areas[k], &pressures[k]);
+            snprintf(cols[k], sizeof cols[k], "%.3g", secs[k]);
+            if (k > 0 && secs[k] < fastest) fastest = secs[k];
+            if (!adhesive && k > 0 && !same_equilibrium(n, areas[k], areas[0], pressures[k], pressures[0])) {
+                printf("body %d: %s and the default disagree: A/A0 %.8f against %.8f, pressure %.10g against %.10g\n", b,
+                       heads[k], areas[k], areas[0], pressures[k], pressures[0]);
+                failed = 1;
+            }
+        }
+        gfmd_sim_destroy(&s);
+        const double ratio = secs[0] / fastest;
+        bodies[adhesive] += 1;
+        for (int k = 0; k < RANDOM_SOLVERS; ++k)
+            if (!isnan(secs[k])) sums[adhesive][k] += secs[k];
+        sums[adhesive][RANDOM_SOLVERS] += fastest;
+        within12 += ratio <= 1.2;
+        within15 += ratio <= 1.5;
+        if (ratio > worst) worst = ratio, worst_body = b;
+        printf("%4d %5d %6s %8.3g %4.2f %4.2f %3.0f %4.0f %4s %8.2g %5s %3s | %-10s %8.3g | %8s %8s %8s %8s | %6.2f\n", b, n,
+               kinds[kind], kind > 0 ? width : 0.0, nu, hurst, ls, lr, gaussian ? "gaus" : "unif", area,
+               displacement ? "disp" : "pres", adhesive ? "yes" : "no", solver_name(active[0]), secs[0], cols[1], cols[2],
+               cols[3], cols[4], ratio);
+        fflush(stdout);
+    }
+    printf("the default within 1.2x of the fastest solver on %d of %d bodies, within 1.5x on %d; worst %.2fx (body %d)\n",
+           within12, count, within15, worst, worst_body);
+    for (int a = 0; a < 2; ++a) {
+        if (bodies[a] == 0) continue;
+        printf("seconds summed over the %d bodies %s adhesion: default %.3f, FIRE %.3f, mass %.3f, m+FIRE %.3f", bodies[a],
+               a ? "with" : "without", sums[a][0], sums[a][1], sums[a][2], sums[a][3]);
+        if (!a) printf(", CG %.3f", sums[a][4]);
+        printf("; the fastest of each body %.3f\n", sums[a][RANDOM_SOLVERS]);
+    }
+    return failed;
+}
+
 static int big_point(const double *sizes, int nsizes, double sigma0, int threads) {
     for (int a = 0; a < nsizes; ++a)
         for (int levels = 1; levels <= 3; levels += 2) {
@@ -907,7 +1062,8 @@ int main(int argc, char **argv) {
     double gap_rms = 0.0;
     int below_given = 0, positions = 0;
     double loads[8], choice_loads[8], gaps[8];
-    int choices = 0, nchoice_loads = 0, ngaps = 0;
+    int choices = 0, nchoice_loads = 0, ngaps = 0, random_bodies = 0;
+    unsigned long long random_seed = 1;
     double cg_seconds = 120.0, sigma0 = 0.05, bonded_nu = NAN, first_tol = 0.0, sweep_from = 0.0, below = 1.0;
     int levels = 3, levers = 15, columns = 31;
     int32_t solver = GFMD_SOLVER_AUTO;
@@ -936,6 +1092,8 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--choices") && i + 1 < argc) nchoice_loads = parse_list(argv[++i], choice_loads, 8), choices = 1;
         else if (!strcmp(argv[i], "--gaps") && i + 1 < argc) ngaps = parse_list(argv[++i], gaps, 8);
         else if (!strcmp(argv[i], "--multilevel")) multilevel = 1;
+        else if (!strcmp(argv[i], "--random") && i + 1 < argc) random_bodies = atoi(argv[++i]), random_bodies = random_bodies > 0 ? random_bodies : -1;
+        else if (!strcmp(argv[i], "--seed") && i + 1 < argc) random_seed = strtoull(argv[++i], NULL, 10);
         else if (!strcmp(argv[i], "--adhesion")) adhesion = 1;
         else if (!strcmp(argv[i], "--no-adhesion")) no_adhesion = 1;
         else if (!strcmp(argv[i], "--bonded") && i + 1 < argc) bonded_nu = atof(argv[++i]);
@@ -947,14 +1105,18 @@ int main(int argc, char **argv) {
                    : !strcmp(argv[i], "auto") ? GFMD_SOLVER_AUTO : !strcmp(argv[i], "mass+fire") ? GFMD_SOLVER_MASS_FIRE : -1;
         } else
             solver = -1;
-        if (solver < 0 || !(sigma0 > 0.0) || levels < 1 || first_tol < 0.0 || levers < 0 || columns < 0 || !(below >= 0.0) || gap_rms < 0.0 || positions < 0) {
+        if (solver < 0 || !(sigma0 > 0.0) || levels < 1 || first_tol < 0.0 || levers < 0 || columns < 0 || random_bodies < 0 || !(below >= 0.0) || gap_rms < 0.0 || positions < 0) {
             fprintf(stderr, "usage: %s [--sizes 256,512,...] [--big] [--widths 0,0.5,1,4] [--threads N] "
                             "[--cg-seconds S] [--no-cg] [--no-alt] [--sigma0 S] [--solver auto|fire|mass|mass+fire|verlet|cg] "
-                            "[--bonded NU] [--adhesion] | --contention | --sweep [--verbose] [--from A] [--columns fire,m+fire,mass,cg,auto] | --loads L,.. | --choices L,.. [--gaps G,..] | --multilevel | --first-load [--levels L] [--tol T] [--levers fire,mass,multilevel,default] | --big | --displacement [--below B | --gap R [--positions K]] [--no-adhesion] [--bonded NU]\n", argv[0]);
+                            "[--bonded NU] [--adhesion] | --contention | --sweep [--verbose] [--from A] [--columns fire,m+fire,mass,cg,auto] | --loads L,.. | --choices L,.. [--gaps G,..] | --multilevel | --first-load [--levels L] [--tol T] [--levers fire,mass,multilevel,default] | --big | --displacement [--below B | --gap R [--positions K]] [--no-adhesion] [--bonded NU] | --random K [--seed S]\n", argv[0]);
             return 2;
         }
     }
     if (contention) return contention_table(sizes, nsizes);
+    if (random_bodies > 0) {
+        const double random_sizes[2] = {128, 256};
+        return random_table(sizes_given ? sizes : random_sizes, sizes_given ? nsizes : 2, random_bodies, random_seed);
+    }
     if (big) {
         const double big_size[1] = {4096};
         /* sigma0 = 0.025 gives A/A0 ~ 0.1 on this body (0.118 at 0.03, 512^2) */
