@@ -241,8 +241,10 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * q_max w < 6 (then GFMD_SOLVER_FIRE_MASS at Persson's A/A0 < 0.15/(q_max w), GFMD_SOLVER_MASS_FIRE
  * below twice that or 0.15, whichever is lower, GFMD_SOLVER_FIRE above); with adhesion
  * GFMD_SOLVER_MASS_FIRE on a layer on a fluid foundation with f(q_min w) >= 2e4 (W <= 0.5 at 256^2, W <= 4 at 2048^2) at a load where Persson's
- * A/A0 < 0.1, and GFMD_SOLVER_FIRE_MASS there instead if the layer is thin, q_max w < 6, and
- * Persson's A/A0 < 0.02, or thinner, q_max w < 4, at any such load; GFMD_SOLVER_FIRE otherwise;
+ * A/A0 < 0.1, and GFMD_SOLVER_FIRE_MASS there instead if the layer is thin, q_t w < 6, and
+ * Persson's A/A0 < 0.02, or thinner, q_t w < 4, at any such load, q_t = min(q_max, 2 sqrt(2) q_s)
+ * with q_s the substrate's shortest wave (the |q| below which all but 1e-4 of its slope variance
+ * lies: q_t = q_max where lambda_s <= 4a); GFMD_SOLVER_FIRE otherwise;
  * under displacement control without adhesion GFMD_SOLVER_CG where S sqrt(nx ny) <= 2e5 (a
  * half-space up to about 530^2, a bonded layer w = 64 a up to about 1700^2, w = 16 a up to about
  * 6900^2; a layer on a fluid foundation only where its longest wave is nearly a half-space's),

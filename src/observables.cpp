@@ -7,6 +7,7 @@
 #include <string>
 
 #include "error.hpp"
+#include "green.hpp"
 
 namespace gfmd {
 
@@ -63,6 +64,39 @@ double persson_variance(const FftGrid &grid, const Body &body, const Fields &fie
     })[0];
     if (!std::isfinite(v)) fail(GFMD_ERR_RANGE, "the full-contact pressure variance overflows double precision");
     return v;
+}
+
+double substrate_shortest_wave(const FftGrid &grid, const Fields &fields) {
+    // A self-affine substrate's roll-off q_s (0.9996-1.0 q_s for H = 0.3-1, lambda_s = 2-8 a,
+    // 128^2-2048^2), the grid's corner for one rough down to the grid spacing (a measured
+    // topography's noise).  Bisection on the tail's share over h's transform.
+    assert(!fields.work_holds_z);
+    std::complex<double> *hq = fields.work.data();
+    grid.forward(fields.h.data(), hq);
+    const int64_t nxh = grid.nxh();
+    const double inv_n = 1.0 / static_cast<double>(grid.real_size());
+    const auto slope_above = [&](double qt) {  // the slope variance at |q| > qt
+        return grid.sum_mode_rows<1>([&](int64_t r0, int64_t r1, double *acc) {
+            double t = 0.0;
+            for (int64_t r = r0; r < r1; ++r) {
+                const double qy = grid.qy(grid.first_mode_row() + r);
+                for (int64_t kx = 0; kx < nxh; ++kx) {
+                    const double qx = grid.qx(kx), q2 = qx * qx + qy * qy;
+                    const double a = std::abs(hq[static_cast<std::size_t>(r * nxh + kx)]) * inv_n;  // scaled first
+                    t += (q2 > qt * qt) ? grid.weight(kx) * q2 * a * a : 0.0;
+                }
+            }
+            acc[0] += t;
+        })[0];
+    };
+    double lo = 0.0, hi = shortest_wave_q(grid);
+    const double total = slope_above(0.0);  // all of it (q = 0 carries no slope)
+    if (!(total > 0.0) || !std::isfinite(total)) return hi;
+    while (hi - lo > 1e-4 * shortest_wave_q(grid)) {
+        const double mid = 0.5 * (lo + hi);
+        (slope_above(mid) <= 1e-4 * total ? hi : lo) = mid;
+    }
+    return hi;
 }
 
 double persson_contact_area(double variance, double sigma0) {

@@ -106,6 +106,7 @@ private:
     int32_t resolve_solver(int32_t requested) const;
     bool surface_flat() const;  // z the same everywhere (a reset or new substrate; no load carried yet)
     double overlap_fraction() const;  // the points whose substrate lies above the prescribed mean position
+    double adhesive_thickness() const;  // the layer's width against the substrate's shortest wave (simulation.cpp)
     // under GFMD_SOLVER_AUTO: the solver for the current problem; returns the one it replaced
     // (null if kept), for a caller that must restore it
     std::unique_ptr<Solver> follow_auto_choice();
@@ -122,6 +123,9 @@ private:
     // computed (one transform of h, a half-spectrum for the call) at its first use after either
     // changed, not at every change of load that asks for it (the automatic choice, persson_load)
     mutable std::optional<double> persson_v_;
+    // The substrate's shortest wave (substrate_shortest_wave), a function of the substrate only,
+    // computed at its first use by the automatic choice after it changed
+    mutable std::optional<double> substrate_q_;
     int32_t active_solver_;
     std::unique_ptr<Solver> solver_;
 };

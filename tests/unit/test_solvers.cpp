@@ -11,6 +11,7 @@
 //    energy U_el + sigma0 A mean(z), evaluated afresh, fell.
 // A library without the undo leaves the surface moved; one that forgets the steepest direction
 // takes the preconditioned one (M^-1 F, not F) and keeps its state at 0 or 1.
+#include <algorithm>
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
@@ -21,6 +22,7 @@
 #include "fields.hpp"
 #include "forces.hpp"
 #include "green.hpp"
+#include "observables.hpp"
 #include "params.hpp"
 #include "solvers/cg.hpp"
 
@@ -44,8 +46,42 @@ double energy(const gfmd::FftGrid &grid, const gfmd::Params &p, const gfmd::Forc
 
 }  // namespace
 
+// The substrate's shortest wave (observables.cpp, read by the automatic choice's adhesive rule)
+// against substrates whose answer is known: two cosines (their larger wave vector, to the
+// bisection's 1e-4 of the corner), a flat substrate and a white-noise one (the grid's corner, or
+// within 2 % of it: a random field's slope variance grows towards the corner).
+void check_shortest_wave() {
+    using namespace gfmd;
+    const int64_t nx = 96, ny = 64;
+    const double lx = 96.0, ly = 128.0;  // unequal spacings
+    FftGrid grid(nx, ny, lx, ly, 1, GFMD_PLANNER_ESTIMATE);
+    Fields fields(grid);
+    const double two_pi = 2.0 * std::acos(-1.0), corner = shortest_wave_q(grid);
+    double *h = fields.h.data();
+    const double q1 = two_pi * 5.0 / lx, q2 = two_pi * 9.0 / ly;  // the larger: q2 = 0.442
+    for (int64_t y = 0; y < ny; ++y)
+        for (int64_t x = 0; x < nx; ++x)
+            h[y * nx + x] = std::cos(q1 * static_cast<double>(x) * lx / nx) +
+                            0.3 * std::sin(q2 * static_cast<double>(y) * ly / ny);
+    const double q = substrate_shortest_wave(grid, fields);
+    std::printf("     two cosines: %.6f against %.6f (corner %.4f)\n", q, std::max(q1, q2), corner);
+    expect(q >= std::max(q1, q2) && q <= std::max(q1, q2) + 1e-4 * corner + 1e-12,
+           "the shortest wave of two cosines is the larger wave vector");
+    std::fill(h, h + nx * ny, -1.0);
+    expect(substrate_shortest_wave(grid, fields) == corner, "a flat substrate's is the grid's corner");
+    uint64_t state = 12345;
+    for (int64_t i = 0; i < nx * ny; ++i) {  // white noise, a portable generator (xorshift64)
+        state ^= state << 13, state ^= state >> 7, state ^= state << 17;
+        h[i] = static_cast<double>(state >> 11) * 0x1.0p-53;
+    }
+    const double noise = substrate_shortest_wave(grid, fields);
+    std::printf("     white noise: %.6f (corner %.4f)\n", noise, corner);
+    expect(noise > 0.98 * corner && noise <= corner, "white noise's is within 2 % of the corner");
+}
+
 int main() {
     using namespace gfmd;
+    check_shortest_wave();
     // A thin sheet on a fluid foundation at a low load, flat at the highest peak: the
     // preconditioned CG's first step pushes the soft sheet down onto the substrate, where the wall
     // stops points, so the step is checked (the case the check was built for, cg.cpp).
