@@ -258,9 +258,8 @@ static int32_t chosen(int64_t n, int32_t kind, double width, double sigma0, doub
     return solver;
 }
 
-/* The same at the load where Persson's A/A0 is `area` (gfmd_persson_load), on a fluid layer. */
-static int32_t chosen_at_area(int64_t n, double width, double area, double gamma0) {
-    gfmd_sim *s = rough_body(n, GFMD_GREEN_LAYER_FLUID, width, gamma0);
+/* The choice on s at the load where Persson's A/A0 is `area` (gfmd_persson_load); s destroyed. */
+static int32_t choice_at_area(gfmd_sim *s, double area) {
     double load = 0.0, back = 0.0;
     TS_OK(s, gfmd_persson_load(s, area, &load));
     TS_OK(s, gfmd_persson_contact_area(s, load, &back));
@@ -272,31 +271,23 @@ static int32_t chosen_at_area(int64_t n, double width, double area, double gamma
     return solver;
 }
 
+/* ... on a layer on a fluid foundation of the rough substrate above */
+static int32_t chosen_at_area(int64_t n, double width, double area, double gamma0) {
+    return choice_at_area(rough_body(n, GFMD_GREEN_LAYER_FLUID, width, gamma0), area);
+}
+
 /* The same on a self-affine substrate with shortest wave lambda_s (H = 0.8, lambda_r = n a/8). */
 static int32_t chosen_on(int64_t n, double width, double lambda_s, double area, double gamma0) {
     gfmd_sim *s = ts_create(n, n, (double)n, (double)n);
     TS_OK(s, gfmd_generate_selfaffine(s, 0.8, (double)n / 8.0, lambda_s, 1.0, 1, GFMD_DIST_UNIFORM));
     TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, width));
     TS_OK(s, gfmd_set_adhesion(s, gamma0, 1.0));
-    double load = 0.0;
-    TS_OK(s, gfmd_persson_load(s, area, &load));
-    TS_OK(s, gfmd_set_pressure(s, load));
-    int32_t solver = -1;
-    TS_OK(s, gfmd_get_solver(s, &solver));
-    gfmd_sim_destroy(&s);
-    return solver;
+    return choice_at_area(s, area);
 }
 
 /* A half-space (width 0) or a bonded layer (nu = 0.3) at the load where Persson's A/A0 is `area`. */
 static int32_t stiff_body_at_area(int64_t n, double width, double area) {
-    gfmd_sim *s = rough_body(n, width > 0.0 ? GFMD_GREEN_LAYER_BONDED : GFMD_GREEN_HALFSPACE, width, 0.0);
-    double load = 0.0;
-    TS_OK(s, gfmd_persson_load(s, area, &load));
-    TS_OK(s, gfmd_set_pressure(s, load));
-    int32_t solver = -1;
-    TS_OK(s, gfmd_get_solver(s, &solver));
-    gfmd_sim_destroy(&s);
-    return solver;
+    return choice_at_area(rough_body(n, width > 0.0 ? GFMD_GREEN_LAYER_BONDED : GFMD_GREEN_HALFSPACE, width, 0.0), area);
 }
 
 static int compare_doubles(const void *a, const void *b) {
