@@ -531,15 +531,14 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
 // layer's width) was measured on substrates whose shortest wave lambda_s = 4a, where q_max =
 // 2 sqrt(2) q_s; what orders mass weighting against the approach is the width against the
 // roughness' shortest wave.  So that rule reads min(q_max, 2 sqrt(2) q_s) w, q_s the substrate's
-// (substrate_shortest_wave): on those substrates q_max w (2 sqrt(2) q_s = 0.9996-1.0 q_max), the
-// same where the substrate is rough down to the grid spacing (lambda_s <= 4a: a measured
-// topography), smaller on a smoother substrate.  (The rules without adhesion, measured at 2048^2
-// on the study's substrate alone, keep q_max w.)  Measured before (gfmd_bench --random 40, 128^2 and 256^2, and from flat at Persson's
-// A/A0 = 0.004 with the study's adhesion, w = W lambda_s, lambda_s = 2, 4, 8 a; docs/performance.md
-// "Bodies drawn at random"): mass-weighted FIRE against the approach then FIRE, the old rule's
-// choice, at equal q_max w = 8.9 took 1.07x its time at lambda_s = 2a (W = 1), 0.92x at 4a
-// (W = 0.5) and 0.57x at 8a (W = 0.25), at equal W = 0.25 0.83x, 0.58x, 0.57x: W, not q_max w,
-// orders them.  At 512^2, lambda_s = 8a, W = 0.25: 1.95 s against the approach's 4.54 s.
+// (substrate_shortest_wave, within 1e-3 of 2 pi/lambda_s on generated substrates): q_max w on
+// those substrates and wherever the substrate is rough down to the grid spacing (lambda_s <= 4a,
+// a measured topography), smaller on a smoother substrate.  Found by gfmd_bench --random
+// (docs/performance.md "Bodies drawn at random": an adhesive sheet w = 2a at 256^2 on lambda_s =
+// 8a, q_max w = 8.9, took the approach's 2.3 s against mass weighting's 0.594 s); a scratch scan
+// from flat at 256^2 and 512^2, lambda_s = 2, 4, 8 a, ordered the two by w/lambda_s, not by
+// q_max w (its figures in commit 9cf5fc3's message).  The rules without adhesion, measured at
+// 2048^2 on the study's substrate alone, keep q_max w.
 constexpr double kRuleWaveRatio = 2.0 * 1.4142135623730951;
 
 double Simulation::adhesive_thickness() const {

@@ -25,6 +25,7 @@
 #include "observables.hpp"
 #include "params.hpp"
 #include "solvers/cg.hpp"
+#include "substrate.hpp"
 
 namespace {
 
@@ -77,6 +78,26 @@ void check_shortest_wave() {
     const double noise = substrate_shortest_wave(grid, fields);
     std::printf("     white noise: %.6f (corner %.4f)\n", noise, corner);
     expect(noise > 0.98 * corner && noise <= corner, "white noise's is within 2 % of the corner");
+
+    // Generated self-affine substrates (the rule reads 2 sqrt(2) q_s capped at the corner, and
+    // on lambda_s = 4a must give the corner's answer): q_s = 2 pi/lambda_s to within 1e-3 below
+    // (the tail above 1e-4 of the slope variance: less than 1e-3 of q_s wide for H = 0.3 ... 1)
+    // and at most the bisection's 1e-4 of the corner above, 128^2, lambda_r = 16a and 32a.
+    FftGrid square(128, 128, 128.0, 128.0, 1, GFMD_PLANNER_ESTIMATE);
+    Fields sq(square);
+    const double sq_corner = shortest_wave_q(square);
+    bool close = true;
+    for (const double lambda_s : {2.0, 4.0, 8.0})
+        for (const double hurst : {0.3, 0.8, 1.0}) {
+            const SelfAffineParams p{hurst, 4.0 * lambda_s, lambda_s, 1.0, 7, GFMD_DIST_UNIFORM};
+            generate_selfaffine(square, p, sq.work.data(), sq.h.data());
+            const double qs = two_pi / lambda_s, got = substrate_shortest_wave(square, sq);
+            if (!(got >= (1.0 - 1e-3) * qs && got <= qs + 1e-4 * sq_corner)) {
+                std::printf("     lambda_s = %g, H = %g: %.6f against q_s = %.6f\n", lambda_s, hurst, got, qs);
+                close = false;
+            }
+        }
+    expect(close, "a generated substrate's is its q_s = 2 pi/lambda_s (lambda_s = 2, 4, 8 a; H = 0.3, 0.8, 1)");
 }
 
 int main() {
