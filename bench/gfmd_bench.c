@@ -857,8 +857,8 @@ static int choices_table(const double *sizes, int nsizes, const double *widths, 
  * CG), each on a clone of the same start, one thread; a run under 0.05 s is repeated up to five
  * times and its fastest kept.  Prints each body with the default's choice and the ratio of its
  * seconds to the fastest solver's, then the sums over the bodies (what one fixed solver for all of
- * them would have cost).  Without adhesion (one equilibrium) the runs must agree (A/A0 within two
- * points, the mean pressure within 1e-4 of its scale): the program fails otherwise. */
+ * them would have cost).  Without adhesion (one equilibrium) the runs must agree (A/A0 within
+ * 0.1 % or two points, the mean pressure within 1e-4 of its scale): the program fails otherwise. */
 enum { RANDOM_SOLVERS = 5 };
 static const int32_t random_solvers[RANDOM_SOLVERS] = {GFMD_SOLVER_AUTO, GFMD_SOLVER_FIRE, GFMD_SOLVER_FIRE_MASS,
                                                        GFMD_SOLVER_MASS_FIRE, GFMD_SOLVER_CG};
@@ -961,7 +961,13 @@ static int random_table(const double *sizes, int nsizes, int count, uint64_t see
             secs[k] = random_run(s, random_solvers[k], &active[k], &areas[k], &pressures[k]);
             snprintf(cols[k], sizeof cols[k], "%.3g", secs[k]);
             if (k > 0 && secs[k] < fastest) fastest = secs[k];
-            if (!adhesive && k > 0 && !same_equilibrium(n, areas[k], areas[0], pressures[k], pressures[0])) {
+            /* at the default tolerance a point whose pressure or gap is that small may fall
+             * either side of the contact line: on a long line (dense contacts, 1024^2) tens of
+             * points, so A/A0 within the benchmark's 0.1 % (or two points) and the pressure as
+             * same_equilibrium's */
+            const double area_slack = fmax(1e-3 * fabs(areas[0]), 2.0 / ((double)n * n));
+            if (!adhesive && k > 0 && !(fabs(areas[k] - areas[0]) <= area_slack &&
+                                        same_equilibrium(n, areas[0], areas[0], pressures[k], pressures[0]))) {
                 printf("body %d: %s and the default disagree: A/A0 %.8f against %.8f, pressure %.10g against %.10g\n", b,
                        heads[k], areas[k], areas[0], pressures[k], pressures[0]);
                 failed = 1;
