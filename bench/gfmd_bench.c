@@ -841,9 +841,6 @@ static int choices_table(const double *sizes, int nsizes, const double *widths, 
     return 0;
 }
 
-/* --big: one point at 4096^2 (or --sizes), a W = 1 layer on a fluid foundation from flat to the
- * default tolerance with the default solver, on --threads threads (default 2): planning and
- * relaxation timed apart. */
 /* --random: bodies drawn at random, none chosen by hand, so that the default's choice is timed
  * on bodies its rule was not measured on.  Each body, from a portable generator seeded by --seed:
  * the grid from --sizes; a half-space, a layer on a fluid foundation or a bonded one (w = 0.5a ...
@@ -854,7 +851,8 @@ static int choices_table(const double *sizes, int nsizes, const double *widths, 
  * above its mean); adhesion in a third (gamma0 = g (0.05 sigma0 + 1e-4 E*) a, g = e^-2 ... e^2,
  * rho = a/2, a or 2a).  From flat to the default tolerance by the default and by every solver
  * that takes the body (FIRE, mass-weighted FIRE, the approach then FIRE, and without adhesion
- * CG), each on a clone of the same start, one thread; a run under 0.05 s is repeated up to five
+ * the library's constrained CG, which the main table's reference CG did not beat on any
+ * half-space or bonded row of docs/performance.md), each on a clone of the same start, one thread; a run under 0.05 s is repeated up to five
  * times and its fastest kept.  Prints each body with the default's choice and the ratio of its
  * seconds to the fastest solver's, then the sums over the bodies (what one fixed solver for all of
  * them would have cost).  Without adhesion (one equilibrium) the runs must agree (A/A0 within
@@ -1000,6 +998,9 @@ static int random_table(const double *sizes, int nsizes, int count, uint64_t see
     return failed;
 }
 
+/* --big: one point at 4096^2 (or --sizes), a W = 1 layer on a fluid foundation from flat to the
+ * default tolerance with the default solver, on --threads threads (default 2): planning and
+ * relaxation timed apart. */
 static int big_point(const double *sizes, int nsizes, double sigma0, int threads) {
     for (int a = 0; a < nsizes; ++a)
         for (int levels = 1; levels <= 3; levels += 2) {
