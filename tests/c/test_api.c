@@ -396,8 +396,8 @@ static void automatic_choice(void **state) {
     /* those thicknesses read the substrate's shortest wave: q_max w above is 2 sqrt(2) q_s w on
      * these substrates (lambda_s = 4a).  A smoother one (lambda_s = 8a, 256^2, w = 2: q_max w = 8.9
      * but 2 sqrt(2) q_s w = 4.4) makes the same sheet thin: mass-weighted FIRE at Persson's A/A0 =
-     * 0.004 (there 1.95 s against the approach's 4.54 s at 512^2, docs/performance.md "Bodies
-     * drawn at random"), not at 0.03; one rough down to lambda_s = 2a keeps q_max w: the approach */
+     * 0.004 (docs/performance.md "Bodies drawn at random"; the scan behind it in commit 9cf5fc3's
+     * message), not at 0.03; one rough down to lambda_s = 2a keeps q_max w: the approach */
     assert_int_equal(chosen_on(256, 2.0, 8.0, 0.004, 1e-3), GFMD_SOLVER_FIRE_MASS);
     assert_int_equal(chosen_on(256, 2.0, 8.0, 0.03, 1e-3), GFMD_SOLVER_MASS_FIRE);
     assert_int_equal(chosen_on(256, 2.0, 2.0, 0.004, 1e-3), GFMD_SOLVER_MASS_FIRE);
