@@ -1,16 +1,21 @@
-// The surface CG's safety net, from the inside (src/solvers/cg.cpp, SurfaceCg::sufficient_decrease):
-// a step the wall stopped must lower the energy by Armijo's rule; if no backtrack does, the step is
-// undone (z from the scratch, bit for bit) and the next direction is the projected force itself,
-// along which a small enough step always descends.  Honest inputs reach that path only by rounding,
-// so the test injects the failure: the solver is handed the forces of the current surface with an
-// elastic energy lowered by far more than any step can change it, so that every trial step, each
-// evaluated from the surface it produces, looks as if it had raised the energy.  Then:
-//  - the surface is the start's, bit for bit, and the solver's state says "steepest next";
-//  - with the true forces the next step's direction is the projected force, bit for bit (zero where
-//    the wall holds the body), its step was checked (points reached the wall) and accepted, and the
-//    energy U_el + sigma0 A mean(z), evaluated afresh, fell.
-// A library without the undo leaves the surface moved; one that forgets the steepest direction
-// takes the preconditioned one (M^-1 F, not F) and keeps its state at 0 or 1.
+// The library's internal paths that honest inputs of the C API reach only by rounding, or that it
+// reads without returning, driven from the inside (the library's own objects linked in):
+//
+// 1. The substrate's shortest wave (observables.cpp, read by the automatic choice's adhesive rule)
+//    against substrates whose answer is known (check_shortest_wave).
+// 2. The surface CG's safety net (src/solvers/cg.cpp, SurfaceCg::sufficient_decrease): a step the
+//    wall stopped must lower the energy by Armijo's rule; if no backtrack does, the step is undone
+//    (z from the scratch, bit for bit) and the next direction is the projected force itself, along
+//    which a small enough step always descends.  The test injects the failure: the solver is
+//    handed the forces of the current surface with an elastic energy lowered by far more than any
+//    step can change it, so that every trial step, each evaluated from the surface it produces,
+//    looks as if it had raised the energy.  Then:
+//     - the surface is the start's, bit for bit, and the solver's state says "steepest next";
+//     - with the true forces the next step's direction is the projected force, bit for bit (zero
+//       where the wall holds the body), its step was checked (points reached the wall) and
+//       accepted, and the energy U_el + sigma0 A mean(z), evaluated afresh, fell.
+//    A library without the undo leaves the surface moved; one that forgets the steepest direction
+//    takes the preconditioned one (M^-1 F, not F) and keeps its state at 0 or 1.
 #include <algorithm>
 #include <cinttypes>
 #include <cmath>
@@ -18,6 +23,7 @@
 #include <cstring>
 #include <vector>
 
+#include "constants.hpp"
 #include "fft_grid.hpp"
 #include "fields.hpp"
 #include "forces.hpp"
@@ -45,8 +51,6 @@ double energy(const gfmd::FftGrid &grid, const gfmd::Params &p, const gfmd::Forc
     return fs.u_el + p.sigma0 * grid.area_per_point() * sum;
 }
 
-}  // namespace
-
 // The substrate's shortest wave (observables.cpp, read by the automatic choice's adhesive rule)
 // against substrates whose answer is known: two cosines (their larger wave vector, to the
 // bisection's 1e-4 of the corner), a flat substrate and a white-noise one (the grid's corner, or
@@ -57,7 +61,7 @@ void check_shortest_wave() {
     const double lx = 96.0, ly = 128.0;  // unequal spacings
     FftGrid grid(nx, ny, lx, ly, 1, GFMD_PLANNER_ESTIMATE);
     Fields fields(grid);
-    const double two_pi = 2.0 * std::acos(-1.0), corner = shortest_wave_q(grid);
+    const double two_pi = 2.0 * kPi, corner = shortest_wave_q(grid);
     double *h = fields.h.data();
     const double q1 = two_pi * 5.0 / lx, q2 = two_pi * 9.0 / ly;  // the larger: q2 = 0.442
     for (int64_t y = 0; y < ny; ++y)
@@ -82,7 +86,7 @@ void check_shortest_wave() {
     // Generated self-affine substrates (the rule reads 2 sqrt(2) q_s capped at the corner, and
     // on lambda_s = 4a must give the corner's answer): q_s = 2 pi/lambda_s to within 1e-3 below
     // (the tail above 1e-4 of the slope variance: less than 1e-3 of q_s wide for H = 0.3 ... 1)
-    // and at most the bisection's 1e-4 of the corner above, 128^2, lambda_r = 16a and 32a.
+    // and at most the bisection's 1e-4 of the corner above, 128^2, lambda_r = 4 lambda_s.
     FftGrid square(128, 128, 128.0, 128.0, 1, GFMD_PLANNER_ESTIMATE);
     Fields sq(square);
     const double sq_corner = shortest_wave_q(square);
@@ -100,9 +104,8 @@ void check_shortest_wave() {
     expect(close, "a generated substrate's is its q_s = 2 pi/lambda_s (lambda_s = 2, 4, 8 a; H = 0.3, 0.8, 1)");
 }
 
-int main() {
+void check_cg_safety_net() {
     using namespace gfmd;
-    check_shortest_wave();
     // A thin sheet on a fluid foundation at a low load, flat at the highest peak: the
     // preconditioned CG's first step pushes the soft sheet down onto the substrate, where the wall
     // stops points, so the step is checked (the case the check was built for, cg.cpp).
@@ -115,7 +118,7 @@ int main() {
     p.solver = GFMD_SOLVER_CG;
     const Body body = make_body(grid, p.kind, p.width, p.e_star, p.nu);
     Fields fields(grid);
-    const double two_pi = 2.0 * std::acos(-1.0);
+    const double two_pi = 2.0 * kPi;
     for (int64_t y = 0; y < n; ++y)
         for (int64_t x = 0; x < n; ++x) {
             const double sx = two_pi * static_cast<double>(x) / static_cast<double>(n);
@@ -175,7 +178,13 @@ int main() {
     // lower is what a caller relies on (the check's rounding slack, 1e-12 of the energy, is far
     // below the decrease of a first step from flat).
     expect(e1 < e0, "and the energy fell");
+}
 
+}  // namespace
+
+int main() {
+    check_shortest_wave();
+    check_cg_safety_net();
     if (failures > 0) {
         std::printf("test_solvers: %d failure(s)\n", failures);
         return 1;
