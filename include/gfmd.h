@@ -239,12 +239,14 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * at a load where Persson's A/A0 >= 0.04 (CG below), unless the layer is of
  * middle width, f(q_min w) >= 1e4 and q_max w >= 6 with q_max = pi sqrt(2)/a (then CG), or thin,
  * q_max w < 6 (then GFMD_SOLVER_FIRE_MASS at Persson's A/A0 < 0.15/(q_max w), GFMD_SOLVER_MASS_FIRE
- * below twice that or 0.15, whichever is lower, GFMD_SOLVER_FIRE above); with adhesion
- * GFMD_SOLVER_MASS_FIRE on a layer on a fluid foundation with f(q_min w) >= 2e4 (W <= 0.5 at 256^2, W <= 4 at 2048^2) at a load where Persson's
- * A/A0 < 0.1, and GFMD_SOLVER_FIRE_MASS there instead if the layer is thin, q_t w < 6, and
- * Persson's A/A0 < 0.02, or thinner, q_t w < 4, at any such load, q_t = min(q_max, 2 sqrt(2) q_s)
- * with q_s the substrate's shortest wave (the |q| below which all but 1e-4 of its slope variance
- * lies: q_t = q_max where lambda_s <= 4a); GFMD_SOLVER_FIRE otherwise;
+ * below twice that or 0.15, whichever is lower, GFMD_SOLVER_FIRE above); with adhesion (under
+ * pressure control) GFMD_SOLVER_CG on a half-space, a bonded layer and a layer on a fluid
+ * foundation no thinner than the grid resolves, q_t w >= 6, q_t = min(q_max, 2 sqrt(2) q_s) with
+ * q_s the substrate's shortest wave (the |q| below which all but 1e-4 of its slope variance lies:
+ * q_t = q_max where lambda_s <= 4a; W >= 0.34 with a = lambda_s/4), and on the thinner sheets
+ * GFMD_SOLVER_MASS_FIRE where f(q_min w) >= 2e4 at a load where Persson's A/A0 < 0.1,
+ * GFMD_SOLVER_FIRE_MASS there instead if Persson's A/A0 < 0.02 or the sheet is thinner still,
+ * q_t w < 4, and GFMD_SOLVER_FIRE otherwise;
  * under displacement control without adhesion GFMD_SOLVER_CG where S sqrt(nx ny) <= 2e5 (a
  * half-space up to about 530^2, a bonded layer w = 64 a up to about 1700^2, w = 16 a up to about
  * 6900^2; a layer on a fluid foundation only where its longest wave is nearly a half-space's),
@@ -265,8 +267,12 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * under pressure control projected CG on the surface preconditioned by the inverse mode
  * stiffness (floored at the contact spacing's), about 2.5 pairs, and under displacement control
  * without the preconditioner, about 1.5 pairs, both tested every iteration; 16 bytes per point more, GFMD_ERR_NOMEM and nothing changed if they
- * cannot be had; for the non-adhesive problem only -- GFMD_ERR_STATE with adhesion, and
- * gfmd_set_adhesion() with gamma0 > 0 refuses while it is chosen; one "step" of
+ * cannot be had; with adhesion under pressure control on every body the surface CG preconditioned
+ * as on a layer on a fluid foundation (on a half-space its floor at the contact spacing only),
+ * with a line search along the adhesive energy and each step checked against it (a few passes over
+ * the points more), and not under displacement control -- GFMD_ERR_STATE, nothing changed, for a
+ * call that would bring adhesion, CG and displacement control together (gfmd_set_solver(),
+ * gfmd_set_adhesion(), gfmd_set_mean_displacement()); one "step" of
  * gfmd_step()/gfmd_relax() is one iteration; the same convergence test as the others),
  * GFMD_SOLVER_FIRE (adapts its step up to
  * 1.3 times the time step and needs no damping), GFMD_SOLVER_FIRE_MASS (FIRE with each Fourier mode's inertia

@@ -343,17 +343,91 @@ void cg_restrict(const double *z, const double *h, const double *f, double *zp, 
     add_lanes(rz, acc);
 }
 
-void cg_direction(const double *z, const double *h, const double *f, const double *s, double *t, double b,
-                  int64_t n, double *acc) {
-    Quad rt[2] = {};
+namespace {
+// The line search's weight at the gap g: exp(-g inv_rho) above the wall, 1 at it.
+inline __attribute__((always_inline)) Quad adhesive_weight(Quad g, double inv_rho) {
+    const Quad one = Quad{} + 1.0;
+    return blend(g > 0.0, exp_quad(-g * inv_rho), one);
+}
+
+// Pads of the last octet: an infinite gap, so t = 0 and no weight.
+template <bool Adhesive>
+inline __attribute__((always_inline)) void direction(const double *z, const double *h, const double *f, const double *s,
+                                                     double *t, double b, double inv_rho, int64_t n, double *acc) {
+    Quad rt[2] = {}, s1[2] = {}, s2[2] = {}, s0[2] = {};
     over_octets(n, [&](auto full, int64_t i, int64_t m, int half) {
         const Quad fq = load_some(full, f + i, m, 0.0);
-        const QuadMask free = ~held(load_some(full, z + i, m, 1.0), load_some(full, h + i, m, 0.0), fq);
+        const Quad zq = load_some(full, z + i, m, HUGE_VAL), hq = load_some(full, h + i, m, 0.0);
+        const QuadMask free = ~held(zq, hq, fq);
         const Quad ti = select(free, load_some(full, s + i, m, 0.0) + b * load_some(full, t + i, m, 0.0));
         store_some(full, t + i, ti, m);
         rt[half] += fq * ti;
+        if constexpr (Adhesive) {  // cg_adhesive_line's sums at alpha = 0
+            const Quad g = zq - hq;
+            const Quad w = adhesive_weight(g, inv_rho);
+            s0[half] += w;
+            s1[half] += w * ti;
+            s2[half] += select(g > 0.0, w * (ti * ti));
+        }
     });
     add_lanes(rt, acc);
+    if constexpr (Adhesive) {
+        add_lanes(s1, acc + 1);
+        add_lanes(s2, acc + 2);
+        add_lanes(s0, acc + 3);
+    }
+}
+}  // namespace
+
+void cg_direction(const double *z, const double *h, const double *f, const double *s, double *t, double b,
+                  double inv_rho, int64_t n, double *acc) {
+    if (inv_rho > 0.0)
+        direction<true>(z, h, f, s, t, b, inv_rho, n, acc);
+    else
+        direction<false>(z, h, f, s, t, b, inv_rho, n, acc);
+}
+
+// Pads of the last octet: t = 0 and an infinite gap, adding nothing.
+void cg_adhesive_line(const double *z, const double *h, const double *t, double alpha, double inv_rho, int64_t n,
+                      double *acc) {
+    Quad s1[2] = {}, s2[2] = {}, s0[2] = {};
+    over_octets(n, [&](auto full, int64_t i, int64_t m, int half) {
+        const Quad ti = load_some(full, t + i, m, 0.0);
+        const Quad g = (load_some(full, z + i, m, HUGE_VAL) - load_some(full, h + i, m, 0.0)) + alpha * ti;
+        const Quad w = adhesive_weight(g, inv_rho);
+        s0[half] += w;
+        s1[half] += w * ti;
+        s2[half] += select(g > 0.0, w * (ti * ti));
+    });
+    add_lanes(s1, acc);
+    add_lanes(s2, acc + 1);
+    add_lanes(s0, acc + 2);
+}
+
+namespace {
+template <bool Adhesive>
+inline __attribute__((always_inline)) void step_sums(const double *z, const double *z0, const double *f,
+                                                     const double *h, double inv_rho, int64_t n, double *acc) {
+    Quad dz[2] = {}, fdz[2] = {}, w[2] = {};
+    over_octets(n, [&](auto full, int64_t i, int64_t m, int half) {
+        const Quad zi = load_some(full, z + i, m, HUGE_VAL);
+        const Quad d = select(zi < HUGE_VAL, zi - load_some(full, z0 + i, m, 0.0));
+        dz[half] += d;
+        fdz[half] += load_some(full, f + i, m, 0.0) * d;
+        if constexpr (Adhesive) w[half] += exp_quad(-(zi - load_some(full, h + i, m, 0.0)) * inv_rho);
+    });
+    add_lanes(dz, acc);
+    add_lanes(fdz, acc + 1);
+    if constexpr (Adhesive) add_lanes(w, acc + 2);
+}
+}  // namespace
+
+void cg_step_sums(const double *z, const double *z0, const double *f, const double *h, double inv_rho,
+                  bool adhesive, int64_t n, double *acc) {
+    if (adhesive)
+        step_sums<true>(z, z0, f, h, inv_rho, n, acc);
+    else
+        step_sums<false>(z, z0, f, h, inv_rho, n, acc);
 }
 
 void cg_move(double *z, const double *h, const double *t, double alpha, bool to_wall, int64_t n, double *acc,

@@ -53,9 +53,14 @@ struct MassUpdate {
 // precondition_modes, the preconditioner's Fourier rows *= inv_n / max(k, floor), returning the sum
 // of |scaled mode|^2 over the full plane summed as apply_stiffness's (also mass-weighted FIRE's
 // M^-1, with |a|^2); cg_restrict, zp = 0 where held and acc[0] += f.zp; cg_direction, t = s + b t
-// where free, 0 where held, and acc[0] += f.t; cg_move, z += alpha t stopped at the wall
+// where free, 0 where held, and acc[0] += f.t (with inv_rho > 0 also acc[1..3] += cg_adhesive_line's
+// three sums at alpha = 0); cg_move, z += alpha t stopped at the wall
 // (to_wall: z = h where t < 0) and acc[0] += the points stopped, the z it started from written to
-// save unless save is null (the checked step's undo).
+// save unless save is null (the checked step's undo); cg_adhesive_line, with g = z - h + alpha t
+// and w = exp(-g inv_rho) where g > 0, 1 at the wall: acc[0] += sum of w t, acc[1] += sum of w t^2
+// where g > 0, acc[2] += sum of w (the adhesive surface CG's line search); cg_step_sums, acc[0..1] += the sums of
+// z - z0 and f (z - z0), and if adhesive acc[2] += the sum of exp(-(z - h) inv_rho) (the checked
+// step's energy change).
 // Polonsky & Keer's passes (PolonskyKeer, pk.cpp), a point being in the contact set where p > 0,
 // its gap g = (u + a) - h: pk_direction, t = g + beta t in the set, 0 elsewhere; pk_sums, acc[0..3]
 // += the sums over the set of r, t, r t and g t; pk_update, p = max(p - tau t, 0) in the set, -tau g
@@ -82,9 +87,13 @@ struct MassUpdate {
                               int64_t nxh, double inv_n, double floor, double w_last);                         \
     void cg_restrict(const double *z, const double *h, const double *f, double *zp, int64_t n, double *acc);  \
     void cg_direction(const double *z, const double *h, const double *f, const double *s, double *t, double b, \
-                      int64_t n, double *acc);                                                                 \
+                      double inv_rho, int64_t n, double *acc);                                                 \
     void cg_move(double *z, const double *h, const double *t, double alpha, bool to_wall, int64_t n, double *acc, \
                  double *save);                                                                             \
+    void cg_adhesive_line(const double *z, const double *h, const double *t, double alpha, double inv_rho,     \
+                          int64_t n, double *acc);                                                             \
+    void cg_step_sums(const double *z, const double *z0, const double *f, const double *h, double inv_rho,     \
+                      bool adhesive, int64_t n, double *acc);                                                  \
     void pk_direction(const double *p, const double *u, const double *h, double *t, double a, double beta,     \
                       int64_t n);                                                                              \
     void pk_sums(const double *p, const double *r, const double *t, const double *u, const double *h, double a, \
@@ -113,6 +122,7 @@ namespace kernels {
     X(ns, complete_forces) X(ns, free_stress_sums) X(ns, apply_stiffness) X(ns, mode_energy) X(ns, fire_update)  \
     X(ns, mark_held) X(ns, mass_update)                                                                       \
     X(ns, cg_mask) X(ns, precondition_modes) X(ns, cg_restrict) X(ns, cg_direction) X(ns, cg_move)                \
+    X(ns, cg_adhesive_line) X(ns, cg_step_sums)                \
     X(ns, pk_direction) X(ns, pk_sums) X(ns, pk_update) X(ns, pk_scale) X(ns, pk_approach) X(ns, pk_gap)       \
     X(ns, pk_scale_modes)
 #define GFMD_KERNEL_FIELD(ns, f) decltype(&ns::f) f;

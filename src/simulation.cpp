@@ -39,6 +39,22 @@ RealBuffer copy_of(const RealBuffer &from) {
     return to;
 }
 
+
+// With adhesion the CG is the surface CG with its adhesive line search (cg.cpp), built and checked
+// for a layer on a fluid foundation under pressure control: Polonsky & Keer's iteration (a
+// half-space, a bonded layer) solves the quadratic problem on the pressure, and the surface CG
+// under displacement control is not preconditioned nor its steps checked.
+bool cg_takes(const Params &p) {
+    return !(p.gamma0 > 0.0) || p.control == kPressureControl;
+}
+
+// GFMD_ERR_STATE if GFMD_SOLVER_CG would run p (set or kept by the caller) and cannot.
+void require_cg_takes(const Params &p, int32_t solver) {
+    if (solver == GFMD_SOLVER_CG && !cg_takes(p))
+        fail(GFMD_ERR_STATE,
+             "the CG solver takes adhesion only on a layer on a fluid foundation under pressure control; "
+             "otherwise choose GFMD_SOLVER_FIRE, GFMD_SOLVER_FIRE_MASS, GFMD_SOLVER_VERLET or GFMD_SOLVER_AUTO");
+}
 }  // namespace
 
 Simulation::Simulation(int64_t nx, int64_t ny, double lx, double ly, int threads, int32_t planner,
@@ -142,6 +158,7 @@ void Simulation::set_green(int32_t kind, double width) {
     Params p = params_;
     p.kind = kind;
     p.width = width;
+    require_cg_takes(p, params_.solver);
     change_body("this Green's function", p);
 }
 
@@ -222,12 +239,11 @@ void Simulation::apply_control() {
     if (params_.control == kDisplacementControl) project_mean(grid_, fields_, params_.mean_z);
 }
 
-constexpr const char *kCgNotAdhesive =
-    "the CG solver minimizes the non-adhesive (quadratic) problem; with adhesion choose GFMD_SOLVER_FIRE, "
-    "GFMD_SOLVER_FIRE_MASS, GFMD_SOLVER_VERLET or GFMD_SOLVER_AUTO";
-
 void Simulation::set_mean_displacement(double d) {
     check_mean_displacement(d, fields_.h.data());
+    Params asked = params_;
+    asked.control = kDisplacementControl;
+    require_cg_takes(asked, params_.solver);
     const Params old = params_;
     undo_.save(fields_);
     change(
@@ -252,7 +268,9 @@ void Simulation::set_adhesion(double gamma0, double rho) {
     if (rho <= 0.0) fail(GFMD_ERR_INVALID_ARG, "rho must be > 0, got " + num(rho));
     if (!std::isfinite(gamma0 / (rho * rho)) || !std::isfinite(gamma0 / rho))
         fail(GFMD_ERR_RANGE, "the adhesive stiffness gamma0/rho^2 overflows");
-    if (gamma0 > 0.0 && params_.solver == GFMD_SOLVER_CG) fail(GFMD_ERR_STATE, kCgNotAdhesive);
+    Params asked = params_;
+    asked.gamma0 = gamma0;
+    require_cg_takes(asked, params_.solver);
     const Params old = params_;
     const Dynamics old_dynamics = dynamics_;
     change(
@@ -426,6 +444,23 @@ constexpr double kAutoMassThickness = 6.0;
 // against 139.5, 36.4 against 73.2, 29.8 against 49.8; but on W = 0.25 (4.4) 32.6 against 31.6,
 // 30.2 against 25.6, 23.5 against 20.4.
 constexpr double kAutoMassThinnerThickness = 4.0;
+// With adhesion under pressure control the CG (the surface CG with its adhesive line search, since
+// 2026-11-27, late night) on every body but the adhesive sheets thinner than the grid resolves, q_t w < 6
+// (kAutoMassThickness, the mass-weighted rule's bound): its iteration costs about 2.5 FFT pairs
+// and a few passes with an exponential, 2.9 times a FIRE step at 512^2 and 2048^2, and wins where it needs
+// about a third of the steps or fewer.  Measured (docs/performance.md "The adhesive CG"): the 40
+// random bodies of gfmd_bench --random 40 --seed 1 (128^2-256^2), the CG the fastest solver on
+// every adhesive body under pressure control (half-spaces 2.0x and 2.8x, bonded layers 1.7-3.5x,
+// fluid layers w = 1.9a-63a with q_t w = 8.4-280 1.8-5.3x faster than the default of then), on
+// the one with q_t w = 4.4 even with mass weighting (0.688 s against 0.693 s); the study's
+// continuing loads (gfmd_bench --sweep --adhesion) at 512^2 W = 10 and 4 (q_t w = 178, 71)
+// 0.60x and 0.68x the default's seconds, W = 0.5 (8.9) 0.91x, W = 0.25 (4.4) 1.43x, W = 1 (17.8)
+// 1.13x, at 2048^2 W = 4 0.71x, W = 1 0.98x, and the study's whole sweeps at 256^2 and 512^2
+// (W = 2 ... 40, the first load from flat) 0.40-0.57x, all with the CG's passes before they were merged; after,
+// at 2048^2 the half-space 0.88x FIRE's seconds, W = 0.5 0.88x the approach's.  The thin sheets
+// below the bound keep their rule: there the CG lost (W = 0.25 above; W = 0.088's whole sweep at 256^2
+// 2.4x the default's seconds).
+constexpr double kAutoAdhesiveCgThickness = kAutoMassThickness;
 
 // Under displacement control, mass-weighted FIRE on a layer on a fluid foundation whose longest
 // wave is at least this much softer than the half-space's, f(q_min w) >= 2, FIRE otherwise.
@@ -510,14 +545,15 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
             return area < std::min(2.0 * mass_area, kAutoContinueThinFireArea) ? GFMD_SOLVER_MASS_FIRE
                                                                                 : GFMD_SOLVER_FIRE;
         }
+        const double thickness = adhesive_thickness();
+        if (thickness >= kAutoAdhesiveCgThickness) return GFMD_SOLVER_CG;
         const double area = persson_contact_area(params_.sigma0);
         const bool soft = longest_wave_softness(grid_, body_, params_.e_star) >= kAutoApproachSoftness;
         if (!soft || !(area < kAutoApproachArea)) return GFMD_SOLVER_FIRE;
-        const double thickness = adhesive_thickness();
         const bool mass = thickness < kAutoMassThinnerThickness || (thickness < kAutoMassThickness && area < kAutoMassArea);
         return mass ? GFMD_SOLVER_FIRE_MASS : GFMD_SOLVER_MASS_FIRE;
     }
-    if (!quadratic) return GFMD_SOLVER_FIRE;
+    if (!quadratic) return GFMD_SOLVER_CG;  // the adhesive CG (kAutoAdhesiveCgThickness)
     const double bound = (params_.kind == GFMD_GREEN_LAYER_BONDED) ? kAutoCgBoundBonded : kAutoCgBound;
     // (no load: no contact, and Persson's variance, a transform of the substrate, not computed)
     if (!(params_.sigma0 > 0.0)) return GFMD_SOLVER_CG;
@@ -577,7 +613,7 @@ std::unique_ptr<Solver> Simulation::follow_auto_choice() {
 }
 
 void Simulation::set_solver(int32_t solver) {
-    if (solver == GFMD_SOLVER_CG && params_.gamma0 > 0.0) fail(GFMD_ERR_STATE, kCgNotAdhesive);
+    require_cg_takes(params_, solver);
     const int32_t kind = resolve_solver(solver);
     solver_ = make_solver(kind, grid_, dynamics_);  // a new, restarted solver; the old one freed
     active_solver_ = kind;

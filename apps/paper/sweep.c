@@ -72,8 +72,9 @@ static void relax_with_approach(gfmd_sim *s, int32_t solver, const options *o, i
 
 void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, const options *o, sweep *out,
                FILE *log) {
-    /* CG refuses adhesion: the adhesive sweeps then take the library's automatic choice */
-    const int32_t solver = adhesive && o->solver == GFMD_SOLVER_CG ? GFMD_SOLVER_AUTO : o->solver;
+    /* CG takes adhesion on a layer on a fluid foundation only: the adhesive half-space then takes
+     * the library's automatic choice */
+    const int32_t solver = o->solver;
     const int levels = o->levels;
     gfmd_sim *s = make_body(surface, W, solver);
     if (adhesive) CHECK(s, gfmd_set_adhesion(s, GAMMA0, RHO));

@@ -492,7 +492,7 @@ contains
   end subroutine sim_set_damping
 
   !> GFMD_SOLVER_AUTO (default: CG, FIRE or the mass-weighted approach then FIRE, chosen from the
-  !> body), GFMD_SOLVER_FIRE, GFMD_SOLVER_CG (non-adhesive), GFMD_SOLVER_FIRE_MASS (mass-weighted
+  !> body), GFMD_SOLVER_FIRE, GFMD_SOLVER_CG (adhesive only under pressure control), GFMD_SOLVER_FIRE_MASS (mass-weighted
   !> FIRE), GFMD_SOLVER_MASS_FIRE (at most 100 mass-weighted steps, then FIRE) or GFMD_SOLVER_VERLET.
   subroutine sim_set_solver(self, solver, stat, errmsg)
     class(gfmd_sim_t), intent(inout) :: self

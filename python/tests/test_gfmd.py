@@ -248,13 +248,19 @@ def test_displacement_control_matches_pressure_control():
 
 
 def test_solver_choice():
-    """GFMD_SOLVER_AUTO chooses CG for a small non-adhesive body and FIRE with adhesion; CG and
-    adhesion refuse each other with a StateError that changes nothing."""
+    """GFMD_SOLVER_AUTO chooses CG for a small half-space, with adhesion too under pressure
+    control; under displacement control FIRE with adhesion, where CG and adhesion refuse each other
+    with a StateError that changes nothing."""
     with gfmd.Simulation(32, 32, 32.0, 32.0, threads=1, planner=gfmd.ESTIMATE) as s:
         s.generate_selfaffine(0.8, 8.0, 4.0, 1.0, seed=3)
         s.set_pressure(0.05)
         assert s.solver == gfmd.CG
         s.set_adhesion(1e-3, 0.5)
+        assert s.solver == gfmd.CG
+        s.relax()
+        assert 0.0 < s.contact_area < 1.0
+        h = s.heights()
+        s.set_mean_displacement(h.mean() + 0.5 * h.std())
         assert s.solver == gfmd.FIRE
         with pytest.raises(gfmd.StateError):
             s.set_solver(gfmd.CG)

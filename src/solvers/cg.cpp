@@ -1,6 +1,7 @@
 #include "cg.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <complex>
 
@@ -15,6 +16,14 @@ namespace {
 // A point the wall holds: at the wall and pressed onto it (the projected force is zero there and
 // the CG direction must not move it).
 inline bool held_by_wall(double z, double h, double f) { return z <= h && f <= 0.0; }
+
+// The checked step (sufficient_decrease, below)
+constexpr double kArmijo = 1e-4;
+constexpr int kMaxBacktracks = 30;
+// The adhesive line search (adhesive_line_minimum): at most 12 evaluations, D within 1e-3 of D(0)
+// (a CG needs a near-exact line minimum for its conjugacy; the check catches the rest).
+constexpr int kLineIterations = 12;
+constexpr double kLineTolerance = 1e-3;
 }  // namespace
 
 void SurfaceCg::set_state(const double *s) {
@@ -81,10 +90,16 @@ void SurfaceCg::advance(StepContext &c, RealBuffer *scratch) {
     const double r2 = preconditioned ? precondition(c, scratch->data()) : fs.f_norm2;
     const double beta = (fresh_ || steepest_ || !(prev_r2_ > 0.0)) ? 0.0 : r2 / prev_r2_;
     steepest_ = false;
+    // with adhesion the line search's sums at alpha = 0 in the same pass (line0)
+    const bool adhesive = c.params.gamma0 > 0.0;
+    const double inv_rho = adhesive ? 1.0 / c.params.rho : 0.0;
+    std::array<double, 3> line0{};
     const auto direction = [&](double b) {
-        return grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
-            kernels::use().cg_direction(z + i0, h + i0, f + i0, s + i0, t + i0, b, i1 - i0, acc);
-        })[0];
+        const auto d = grid.sum_points<4>([&](int64_t i0, int64_t i1, double *acc) {
+            kernels::use().cg_direction(z + i0, h + i0, f + i0, s + i0, t + i0, b, inv_rho, i1 - i0, acc);
+        });
+        line0 = {d[1], d[2], d[3]};
+        return d[0];
     };
     // Under displacement control the direction must keep mean(z): t is projected onto zero mean
     // over the points free to move (the gradient of the energy within the constraint), so that
@@ -141,6 +156,10 @@ void SurfaceCg::advance(StepContext &c, RealBuffer *scratch) {
     // elastic curvature along t (t uniform: no contact holds the body) the step ends at the wall.
     const double n = static_cast<double>(grid.real_size());
     double alpha = n * rt / tkt;
+    // (with adhesion never under displacement control: t is the direction's, as line0 was summed)
+    LineMinimum line{alpha, 0.0, 0.0, 0.0};
+    if (adhesive && tkt > 0.0 && std::isfinite(alpha)) line = adhesive_line_minimum(c, rt, tkt / n, alpha, line0);
+    alpha = line.alpha;
     const bool to_wall = !(tkt > 0.0) || !std::isfinite(alpha);
     // Under pressure control the step is checked where the wall stopped points (below): the
     // start is kept in the scratch, whose preconditioned residual the direction has consumed.
@@ -153,7 +172,10 @@ void SurfaceCg::advance(StepContext &c, RealBuffer *scratch) {
     };
     const double hits = move(alpha, guard ? scratch->data() : nullptr);
     fresh_ = hits > 0.0;
-    if (guard && hits > 0.0) sufficient_decrease(c, scratch->data(), alpha, rt, move);
+    // With adhesion a step the wall did not stop has the energy change the line search summed (the
+    // path is the one it followed): checked against it, without a pass; one it stopped, as above.
+    const bool decreased = !adhesive || (hits == 0.0 && line.change <= -kArmijo * grid.area_per_point() * alpha * rt + line.slack);
+    if (guard && (hits > 0.0 || !decreased)) sufficient_decrease(c, scratch->data(), alpha, rt, move, line.weight);
 }
 
 // alpha above minimizes the quadratic energy along t, but where the wall stops points the move is
@@ -169,8 +191,6 @@ void SurfaceCg::advance(StepContext &c, RealBuffer *scratch) {
 // which a small enough step always descends.  Steps the wall does not stop are exact minimizers
 // and are not checked.
 namespace {
-constexpr double kArmijo = 1e-4;
-constexpr int kMaxBacktracks = 30;
 
 // The smallest step along t at which a point above the wall (z > h) moving down reaches it, if
 // below alpha; else 0.
@@ -184,8 +204,55 @@ double first_contact(const FftGrid &grid, const double *z, const double *h, cons
 }
 }  // namespace
 
+// With adhesion the energy along t is no longer quadratic: E(alpha) = E(0) - a_pt D-integral, with
+// dE/dalpha = -a_pt D(alpha),
+//   D(alpha) = r.t + (gamma0/rho) (S1(0) - S1(alpha)) - alpha t.K.t/N,
+//   S1(alpha) = sum of w t, w = exp(-g/rho) at the gap g = z - h + alpha t (1 at the wall),
+//   D'(alpha) = (gamma0/rho^2) S2(alpha) - t.K.t/N, S2 = sum of w t^2 above the wall,
+// exact for the elastic and load terms along the unprojected line and for the adhesive term along
+// the projected one (a point at the wall feels the pull gamma0/rho: its w stays 1).  Its zero by
+// Newton's method kept inside the bracket [lo, hi] where D changes sign (bisection when a step
+// would leave it, doubling until D < 0 is found), from the quadratic step: the adhesive pull only
+// lengthens it; Newton's first step is taken from 0, where the same pass gives D(0) = r.t and
+// D'(0).  One pass over the points each, no transform.  The move is then
+// checked against the true energy (sufficient_decrease).
+SurfaceCg::LineMinimum SurfaceCg::adhesive_line_minimum(const StepContext &c, double rt, double ktn,
+                                                       double alpha, const std::array<double, 3> &s0) const {
+    const FftGrid &grid = c.grid;
+    const double *z = c.fields.z.data(), *h = c.fields.h.data(), *t = c.fields.v.data();
+    const double inv_rho = 1.0 / c.params.rho, coef = c.params.gamma0 * inv_rho;
+    const auto sums = [&](double a) {
+        return grid.sum_points<3>([&](int64_t i0, int64_t i1, double *acc) {
+            kernels::use().cg_adhesive_line(z + i0, h + i0, t + i0, a, inv_rho, i1 - i0, acc);
+        });
+    };
+    const double d_el = rt + coef * s0[0], slope0 = coef * inv_rho * s0[1] - ktn;
+    // Newton's first step from 0 where E is convex along t there (it lengthens the quadratic step)
+    if (slope0 < 0.0) alpha = rt / -slope0;
+    double lo = 0.0, hi = HUGE_VAL;
+    for (int k = 0;; ++k) {
+        const auto s = sums(alpha);
+        const double d = d_el - coef * s[0] - alpha * ktn;
+        if (std::fabs(d) <= kLineTolerance * rt || k + 1 == kLineIterations) {
+            // E(alpha) - E(0): the elastic and load terms integrated, the adhesive one summed
+            const double a_pt = grid.area_per_point();
+            const double change = -a_pt * (d_el * alpha - 0.5 * alpha * alpha * ktn) -
+                                  c.params.gamma0 * a_pt * (s[2] - s0[2]);
+            const double size = a_pt * (std::fabs(d_el * alpha) + 0.5 * alpha * alpha * ktn) +
+                                c.params.gamma0 * a_pt * (s[2] + s0[2]);
+            return {alpha, change, 1e-12 * size, s[2]};
+        }
+        const double slope = coef * inv_rho * s[1] - ktn;
+        if (d > 0.0) lo = alpha; else hi = alpha;
+        double next = (slope < 0.0) ? alpha - d / slope : HUGE_VAL;
+        if (!(next > lo && next < hi)) next = std::isfinite(hi) ? 0.5 * (lo + hi) : 2.0 * alpha;
+        alpha = next;
+    }
+}
+
 template <class Move>
-void SurfaceCg::sufficient_decrease(StepContext &c, const double *z0, double alpha, double rt, Move &&move) {
+void SurfaceCg::sufficient_decrease(StepContext &c, const double *z0, double alpha, double rt, Move &&move,
+                                    double weight) {
     const FftGrid &grid = c.grid;
     double *__restrict z = c.fields.z.data();
     const double *__restrict f = c.fields.f.data();
@@ -196,34 +263,35 @@ void SurfaceCg::sufficient_decrease(StepContext &c, const double *z0, double alp
     const double *stiff = c.body.stiffness.data();
     // dE/dalpha at 0 along t: -(A/N) r.t
     const double slope = a_pt * rt;
+    const double *__restrict h = c.fields.h.data();
+    const double inv_rho = 1.0 / c.params.rho;
+    const bool adhesive = c.params.gamma0 > 0.0;
     double a = alpha;
     for (int k = 0; k <= kMaxBacktracks; ++k) {
         if (k > 0) {
             grid.for_points([&](int64_t i0, int64_t i1) { std::copy(z0 + i0, z0 + i1, z + i0); });
             move(a, nullptr);
         }
-        // the change of the load's work and the first-order prediction, sum (z - z0) and f.(z - z0)
-        const auto d = grid.sum_points<2>([&](int64_t i0, int64_t i1, double *acc) {
-            double dz = 0.0, fdz = 0.0;
-#pragma omp simd reduction(+ : dz, fdz)
-            for (int64_t i = i0; i < i1; ++i) {
-                const double di = z[i] - z0[i];
-                dz += di;
-                fdz += f[i] * di;
-            }
-            acc[0] += dz;
-            acc[1] += fdz;
+        // the change of the load's work and the first-order prediction, sum (z - z0) and f.(z - z0);
+        // with adhesion the adhesive weight sum of the new z
+        // (at the first try the line search's last sum is that of this z: max(h, z0 + alpha t))
+        const bool summed = k == 0 && adhesive;
+        auto d = grid.sum_points<3>([&](int64_t i0, int64_t i1, double *acc) {
+            kernels::use().cg_step_sums(z + i0, z0 + i0, f + i0, h + i0, inv_rho, adhesive && !summed, i1 - i0, acc);
         });
+        if (summed) d[2] = weight;
         grid.forward(z, c.fields.work.data());
         const std::complex<double> *work = c.fields.work.data();
         const double energy = grid.sum_mode_rows<1>([&](int64_t y0, int64_t y1, double *acc) {
             acc[0] += kernels::use().mode_energy(work, stiff, y0, y1, nxh, w_last);
         })[0];
         const double u_el = 0.5 * grid.cell_area() * energy * inv_n * inv_n;
-        const double change = (u_el - c.forces.u_el) + sigma0 * a_pt * d[0];
+        // U_ad = -gamma0 a_pt (weight sum); ForceState::u_ad is its magnitude
+        const double u_ad = c.params.gamma0 * a_pt * d[2];
+        const double change = (u_el - c.forces.u_el) + sigma0 * a_pt * d[0] - (u_ad - c.forces.u_ad);
         const double predicted = -a_pt * d[1];  // < 0 along a descent path
-        // rounding: both energies summed over the modes, about 1e-13 of their size at most
-        const double slack = 1e-12 * (std::fabs(u_el) + std::fabs(c.forces.u_el));
+        // rounding: the energies summed over the modes and points, about 1e-13 of their size at most
+        const double slack = 1e-12 * (std::fabs(u_el) + std::fabs(c.forces.u_el) + u_ad + c.forces.u_ad);
         if (change <= kArmijo * predicted + slack) {
             c.fields.work_holds_z = true;  // the force evaluation's transform, done
             return;
@@ -237,7 +305,7 @@ void SurfaceCg::sufficient_decrease(StepContext &c, const double *z0, double alp
         // so it decreases (a sheet that floats on a few contacts lands on the next, where the
         // parabola, blind to the wall, took a tenth of the step again and again: 48 x 40, w = a,
         // sigma0/(E* g) = 1e-5, 42 iterations against 6 for the unchecked projected steps).
-        a = (k == 0) ? std::max(shrunk, first_contact(grid, z0, c.fields.h.data(), c.fields.v.data(), alpha)) : shrunk;
+        a = (k == 0) ? std::max(shrunk, first_contact(grid, z0, h, c.fields.v.data(), alpha)) : shrunk;
     }
     grid.for_points([&](int64_t i0, int64_t i1) { std::copy(z0 + i0, z0 + i1, z + i0); });
     steepest_ = true;
@@ -285,8 +353,9 @@ double SurfaceCg::precondition(const StepContext &c, double *zp) {
     if (bucket != bucket_) {
         const double points = std::ldexp(std::sqrt(2.0), bucket);
         double qc2 = contact_spacing_q2(grid, kPcgSpacing, points);
-        const double w = c.params.width;  // > 0: preconditioned only on a layer
-        double cap2 = kPcgWidth * kPcgWidth / (w * w);
+        const double w = c.params.width;
+        // a half-space (preconditioned with adhesion only) has no thickness: the cap of w -> infinity
+        double cap2 = (w > 0.0) ? kPcgWidth * kPcgWidth / (w * w) : 0.0;
         if (points >= kPcgDenseArea * static_cast<double>(grid.real_size()))
             cap2 = std::max(cap2, qc2 / (kPcgDenseRatio * kPcgDenseRatio));
         qc2 = std::min(qc2, cap2);

@@ -7,6 +7,8 @@
 #ifndef GFMD_SRC_SOLVERS_CG_HPP
 #define GFMD_SRC_SOLVERS_CG_HPP
 
+#include <array>
+
 #include "pk.hpp"
 #include "solver.hpp"
 
@@ -28,10 +30,19 @@ public:
 
 private:
     // Where the wall stopped points, the step from z0 must decrease the energy enough (cg.cpp).
+    // weight: with adhesion the sum of exp(-(z - h)/rho) at alpha (the line search's last)
     template <class Move>
-    void sufficient_decrease(StepContext &c, const double *z0, double alpha, double rt, Move &&move);
+    void sufficient_decrease(StepContext &c, const double *z0, double alpha, double rt, Move &&move, double weight);
     // z_p = M^-1 r on the free points (0 where the wall holds z), returns r.z_p.
     double precondition(const StepContext &c, double *zp);
+    // With adhesion: the step along t to the energy's minimum from the quadratic step alpha, the
+    // energy's change along the unprojected path there, its rounding and the adhesive weight sum
+    // there, from the line's sums at 0 (s0: cg_adhesive_line's, summed by the direction's pass).
+    struct LineMinimum {
+        double alpha, change, slack, weight;
+    };
+    LineMinimum adhesive_line_minimum(const StepContext &c, double rt, double ktn, double alpha,
+                                      const std::array<double, 3> &s0) const;
     double prev_r2_ = 0.0;  // r.r, or r.M^-1 r when preconditioned, of the last iteration
     bool fresh_ = true;
     bool steepest_ = false;  // the last step failed its check: the next direction is the force
@@ -58,12 +69,12 @@ public:
 
 private:
     static bool uses_surface(const Params &p) {
-        return p.control == kDisplacementControl || p.kind == GFMD_GREEN_LAYER_FLUID;
+        return p.control == kDisplacementControl || p.kind == GFMD_GREEN_LAYER_FLUID || p.gamma0 > 0.0;
     }
     // Preconditioned on a layer on a fluid foundation under pressure control (not with the mean
     // held: the projection would fight the preconditioner's long waves, as it did mass-weighted FIRE's).
     static bool preconditioned(const Params &p) {
-        return p.control == kPressureControl && p.kind == GFMD_GREEN_LAYER_FLUID;
+        return p.control == kPressureControl && (p.kind == GFMD_GREEN_LAYER_FLUID || p.gamma0 > 0.0);
     }
     SurfaceCg surface_;
     PolonskyKeer pressure_;

@@ -122,12 +122,60 @@ static void adhesion_approach_then_fire(void **state) {
     check_body(GFMD_GREEN_LAYER_FLUID, 1.0, GFMD_SOLVER_MASS_FIRE);
 }
 
+/* And for the CG, which takes adhesion under pressure control (the surface CG, its line search
+ * along the adhesive energy, its steps checked against it): the energy-minimum checks above on the
+ * half-space, a thick layer and a thin one (W = 0.25), and the same equilibrium as FIRE from the
+ * same start on every body -- the contact set to a point and the energies to 1e-7 (both relaxed
+ * to a residual of 1e-10 of the stress scale, which bounds their distance from the same minimum
+ * far below that). */
+static void adhesion_cg(void **state) {
+    (void)state;
+    check_body(GFMD_GREEN_HALFSPACE, 0.0, GFMD_SOLVER_CG);
+    check_body(GFMD_GREEN_LAYER_FLUID, 8.0, GFMD_SOLVER_CG);
+    check_body(GFMD_GREEN_LAYER_FLUID, 1.0, GFMD_SOLVER_CG);
+    const struct {
+        int32_t kind;
+        double width;
+    } bodies[] = {{GFMD_GREEN_HALFSPACE, 0.0},
+                  {GFMD_GREEN_LAYER_BONDED, 4.0},
+                  {GFMD_GREEN_LAYER_FLUID, 1.0},
+                  {GFMD_GREEN_LAYER_FLUID, 4.0},
+                  {GFMD_GREEN_LAYER_FLUID, 16.0}};
+    for (size_t w = 0; w < sizeof bodies / sizeof bodies[0]; ++w) {
+        double area[2], el[2], ad[2];
+        int64_t steps[2];
+        const int32_t solvers[2] = {GFMD_SOLVER_FIRE, GFMD_SOLVER_CG};
+        for (int k = 0; k < 2; ++k) {
+            gfmd_sim *s = ts_create(N, N, L, L);
+            TS_OK(s, gfmd_generate_selfaffine(s, 0.8, 16.0, 4.0, 1.0, 77, GFMD_DIST_UNIFORM));
+            TS_OK(s, gfmd_set_poisson(s, 0.3));
+            if (bodies[w].kind != GFMD_GREEN_HALFSPACE) TS_OK(s, gfmd_set_green(s, bodies[w].kind, bodies[w].width));
+            TS_OK(s, gfmd_set_adhesion(s, GAMMA0, RHO));
+            TS_OK(s, gfmd_set_solver(s, solvers[k]));
+            int32_t active = -1;
+            TS_OK(s, gfmd_get_solver(s, &active));
+            assert_int_equal(active, solvers[k]);
+            TS_OK(s, gfmd_set_pressure(s, SIGMA0));
+            TS_OK(s, gfmd_relax(s, 1e-10, 400000, &steps[k]));
+            TS_OK(s, gfmd_get_contact_area(s, &area[k]));
+            TS_OK(s, gfmd_get_energies(s, &el[k], &ad[k]));
+            gfmd_sim_destroy(&s);
+        }
+        print_message("kind %d, w = %g: FIRE %lld steps, CG %lld iterations; A/A0 %.6f / %.6f, U_el %.10g / %.10g, U_ad %.10g / %.10g\n",
+                      bodies[w].kind, bodies[w].width, (long long)steps[0], (long long)steps[1], area[0], area[1], el[0], el[1], ad[0], ad[1]);
+        assert_true(fabs(area[0] - area[1]) * N * N <= 1.0);
+        assert_true(ts_rel(el[0], el[1]) < 1e-7);
+        assert_true(ts_rel(ad[0], ad[1]) < 1e-7);
+    }
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(adhesion_halfspace),
         cmocka_unit_test(adhesion_layer),
         cmocka_unit_test(adhesion_mass_weighted),
         cmocka_unit_test(adhesion_approach_then_fire),
+        cmocka_unit_test(adhesion_cg),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -131,7 +131,6 @@ static int32_t timestep_nan(gfmd_sim *s) { return gfmd_set_timestep(s, NAN); }
 static int32_t damping_negative(gfmd_sim *s) { return gfmd_set_damping(s, -1.0); }
 static int32_t damping_inf(gfmd_sim *s) { return gfmd_set_damping(s, INFINITY); }
 static int32_t solver_unknown(gfmd_sim *s) { return gfmd_set_solver(s, GFMD_SOLVER_MASS_FIRE + 1); }
-static int32_t solver_cg_adhesive(gfmd_sim *s) { return gfmd_set_solver(s, GFMD_SOLVER_CG); }
 static int32_t threads_negative(gfmd_sim *s) { return gfmd_set_threads(s, -1); }
 static int32_t threads_too_many(gfmd_sim *s) { return gfmd_set_threads(s, 5000); }
 static int32_t planner_unknown(gfmd_sim *s) { return gfmd_set_fft_planner(s, 9); }
@@ -204,7 +203,6 @@ static const failing CALLS[] = {
     {"damping < 0", GFMD_ERR_INVALID_ARG, damping_negative},
     {"damping inf", GFMD_ERR_INVALID_ARG, damping_inf},
     {"unknown solver", GFMD_ERR_BAD_ENUM, solver_unknown},
-    {"CG on an adhesive body", GFMD_ERR_STATE, solver_cg_adhesive},
     {"threads < 0", GFMD_ERR_INVALID_ARG, threads_negative},
     {"threads > 4096", GFMD_ERR_INVALID_ARG, threads_too_many},
     {"unknown planner", GFMD_ERR_BAD_ENUM, planner_unknown},
@@ -222,20 +220,64 @@ static const failing CALLS[] = {
     {"clone into NULL", GFMD_ERR_NULL, clone_null},
 };
 
+/* Each call on a, expected to fail with its status and a message; a then compared with b. */
+static void run_calls(gfmd_sim *a, gfmd_sim *b, const failing *calls, size_t count) {
+    for (size_t i = 0; i < count; ++i) {
+        const int32_t st = calls[i].call(a);
+        if (st != calls[i].expected)
+            fail_msg("%s: got %s, expected %s", calls[i].what, gfmd_status_string(st),
+                     gfmd_status_string(calls[i].expected));
+        char msg[256] = "";
+        assert_int_equal(gfmd_last_error(a, msg, sizeof msg) == GFMD_ERR_NULL, 0);
+        if (msg[0] == '\0') fail_msg("%s: no message recorded", calls[i].what);
+        same_state(a, b, calls[i].what);
+    }
+}
+
 static void every_failure_changes_nothing(void **state) {
     (void)state;
     gfmd_sim *a = make_twin(), *b = make_twin();
     same_state(a, b, "creation");
-    for (size_t i = 0; i < sizeof CALLS / sizeof CALLS[0]; ++i) {
-        const int32_t st = CALLS[i].call(a);
-        if (st != CALLS[i].expected)
-            fail_msg("%s: got %s, expected %s", CALLS[i].what, gfmd_status_string(st),
-                     gfmd_status_string(CALLS[i].expected));
-        char msg[256] = "";
-        assert_int_equal(gfmd_last_error(a, msg, sizeof msg) == GFMD_ERR_NULL, 0);
-        if (msg[0] == '\0') fail_msg("%s: no message recorded", CALLS[i].what);
-        same_state(a, b, CALLS[i].what);
+    run_calls(a, b, CALLS, sizeof CALLS / sizeof CALLS[0]);
+    gfmd_sim_destroy(&a);
+    gfmd_sim_destroy(&b);
+}
+
+/* The CG takes adhesion under pressure control only: on the twin (adhesive, under pressure) it is
+ * accepted, and then the call that would hand it displacement control is refused with
+ * GFMD_ERR_STATE and changes nothing; under displacement control so are the CG on the adhesive
+ * twin and adhesion on the CG's. */
+static int32_t cg_to_position(gfmd_sim *s) { return gfmd_set_mean_displacement(s, 1.0); }
+static int32_t cg_under_position(gfmd_sim *s) { return gfmd_set_solver(s, GFMD_SOLVER_CG); }
+static int32_t adhesion_on_cg_under_position(gfmd_sim *s) { return gfmd_set_adhesion(s, 1e-3, 0.5); }
+
+static void cg_refusals_change_nothing(void **state) {
+    (void)state;
+    static const failing pressure_calls[] = {
+        {"an adhesive CG handed displacement control", GFMD_ERR_STATE, cg_to_position}};
+    static const failing position_calls[] = {
+        {"CG on an adhesive body under displacement control", GFMD_ERR_STATE, cg_under_position}};
+    static const failing position_cg_calls[] = {
+        {"adhesion on the CG under displacement control", GFMD_ERR_STATE, adhesion_on_cg_under_position}};
+    gfmd_sim *a = make_twin(), *b = make_twin();
+    gfmd_sim *both[2] = {a, b};
+    for (int i = 0; i < 2; ++i) {
+        TS_OK(both[i], gfmd_set_solver(both[i], GFMD_SOLVER_CG));
+        TS_OK(both[i], gfmd_step(both[i], 5));
     }
+    same_state(a, b, "the adhesive CG's steps");
+    run_calls(a, b, pressure_calls, 1);
+    for (int i = 0; i < 2; ++i) {
+        TS_OK(both[i], gfmd_set_solver(both[i], GFMD_SOLVER_AUTO));
+        TS_OK(both[i], gfmd_set_mean_displacement(both[i], 1.0));
+    }
+    run_calls(a, b, position_calls, 1);
+    for (int i = 0; i < 2; ++i) {
+        TS_OK(both[i], gfmd_set_adhesion(both[i], 0.0, 0.5));
+        TS_OK(both[i], gfmd_set_solver(both[i], GFMD_SOLVER_CG));
+        TS_OK(both[i], gfmd_step(both[i], 5));
+    }
+    run_calls(a, b, position_cg_calls, 1);
     gfmd_sim_destroy(&a);
     gfmd_sim_destroy(&b);
 }
@@ -265,6 +307,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(every_failure_changes_nothing),
         cmocka_unit_test(divergence_changes_nothing),
+        cmocka_unit_test(cg_refusals_change_nothing),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -202,7 +202,7 @@ void run_cg(const Build &b, const Data &d, int64_t n, std::vector<double> &out) 
     double acc[4] = {};
     b.cg_mask(d.z.data(), d.h.data(), d.f.data(), zp.data(), n);
     b.cg_restrict(d.z.data(), d.h.data(), d.f.data(), zp2.data(), n, acc);
-    b.cg_direction(d.z.data(), d.h.data(), d.f.data(), zp2.data(), t.data(), 0.7, n, acc + 1);
+    b.cg_direction(d.z.data(), d.h.data(), d.f.data(), zp2.data(), t.data(), 0.7, 0.0, n, acc + 1);
     std::vector<double> saved(n);
     b.cg_move(z.data(), d.h.data(), t.data(), HUGE_VAL, true, n, acc + 2, nullptr);
     b.cg_move(z.data(), d.h.data(), t.data(), 0.3, false, n, acc + 2, saved.data());
@@ -258,7 +258,7 @@ struct CgReference {
         lanes_to(lanes, acc);
     }
     void cg_direction(const double *z, const double *h, const double *f, const double *s, double *t, double b,
-                      int64_t n, double *acc) const {
+                      double /* inv_rho: 0, no adhesion */, int64_t n, double *acc) const {
         double lanes[kLanes] = {};
         for (int64_t i = 0; i < n; ++i) {
             t[i] = (z[i] <= h[i] && f[i] <= 0.0) ? 0.0 : s[i] + b * t[i];
@@ -457,6 +457,76 @@ void compare_builds(const char *what, int64_t n, Run &&run, const Reference &ref
 #endif
 }
 
+// The adhesive surface CG's passes (rho = 0.5): the direction with the line search's sums at 0,
+// the line search's sums at alpha = 0 and 0.3, the step's sums with the adhesive weight after the
+// move by 0.3.  Against their definition with std::exp, summed in long double, each sum within
+// (n/kLanes + 16) units of rounding of its terms' magnitudes summed: the bound of a sum of n/kLanes
+// terms in each lane (Higham's gamma_n), the exponential's 2 ulp and the lanes' addition within
+// it (the sums of w t cancel, so a bound relative to the result would not hold); the baseline
+// against x86-64-v3 bit for bit, and the direction's sums at 0 bit for bit those of the line pass
+// at 0 (the solver takes one for the other).
+void check_adhesive_cg(const Data &d, int64_t n, bool have_v3) {
+    const double inv_rho = 2.0, alpha = 0.3, b = 0.7;
+    const auto run = [&](const gfmd::kernels::Table &k, std::vector<double> &out) {
+        std::vector<double> t = d.v, z(n), s(n);
+        for (int64_t i = 0; i < n; ++i) s[i] = d.f[i] + 3.0 * d.v[i];
+        double acc[13] = {};
+        k.cg_direction(d.z.data(), d.h.data(), d.f.data(), s.data(), t.data(), b, inv_rho, n, acc);
+        k.cg_adhesive_line(d.z.data(), d.h.data(), t.data(), 0.0, inv_rho, n, acc + 4);
+        k.cg_adhesive_line(d.z.data(), d.h.data(), t.data(), alpha, inv_rho, n, acc + 7);
+        for (int64_t i = 0; i < n; ++i) z[i] = std::max(d.h[i], d.z[i] + alpha * t[i]);
+        k.cg_step_sums(z.data(), d.z.data(), d.f.data(), d.h.data(), inv_rho, true, n, acc + 10);
+        out = t;
+        out.insert(out.end(), acc, acc + 13);
+    };
+    std::vector<double> out_base;
+    run(base, out_base);
+    const double *acc = out_base.data() + n;
+    expect_same("adhesive CG: direction's sums at 0 against the line's", n, acc + 1, acc + 4, 3);
+    // the reference: t as the direction defines it, then each sum with its magnitude
+    std::vector<double> t(n);
+    std::vector<long double> ref(13, 0.0L), mag(13, 0.0L);
+    const auto add = [&](int k, double x) {
+        ref[k] += x;
+        mag[k] += std::fabs(x);
+    };
+    for (int64_t i = 0; i < n; ++i) {
+        const double s = d.f[i] + 3.0 * d.v[i];
+        t[i] = (d.z[i] <= d.h[i] && d.f[i] <= 0.0) ? 0.0 : s + b * d.v[i];
+        add(0, d.f[i] * t[i]);
+        for (const auto &[k, a] : {std::pair<int, double>{4, 0.0}, {7, alpha}}) {
+            const double g = (d.z[i] - d.h[i]) + a * t[i], w = g > 0.0 ? std::exp(-g * inv_rho) : 1.0;
+            add(k, w * t[i]);
+            add(k + 1, g > 0.0 ? w * t[i] * t[i] : 0.0);
+            add(k + 2, w);
+        }
+        const double zn = std::max(d.h[i], d.z[i] + alpha * t[i]), dz = zn - d.z[i];
+        add(10, dz);
+        add(11, d.f[i] * dz);
+        add(12, std::exp(-(zn - d.h[i]) * inv_rho));
+    }
+    for (int k = 1; k <= 3; ++k) {
+        ref[k] = ref[k + 3];
+        mag[k] = mag[k + 3];
+    }
+    expect_same("adhesive CG: direction", n, t.data(), out_base.data(), n);
+    const long double units = static_cast<long double>(n / kLanes + 16) * 0x1p-52L;
+    for (int k = 0; k < 13; ++k)
+        if (!(std::fabs(acc[k] - ref[k]) <= units * mag[k])) {
+            std::printf("FAIL adhesive CG sum %d, n = %" PRId64 ": %a against %La\n", k, n, acc[k], ref[k]);
+            ++failures;
+        }
+#ifdef GFMD_KERNELS_V3
+    if (have_v3) {
+        std::vector<double> out_v3;
+        run(v3, out_v3);
+        expect_same("adhesive CG: x86-64-v3", n, out_base.data(), out_v3.data(), static_cast<int64_t>(out_base.size()));
+    }
+#else
+    (void)have_v3;
+#endif
+}
+
 }  // namespace
 
 int main() {
@@ -536,7 +606,8 @@ int main() {
                 std::printf("FAIL contacts, n = %" PRId64 ": %g against %" PRId64 "\n", n, acc_base[5] - 0.25, touching);
                 ++failures;
             }
-            if (!adhesive) {  // the CGs' passes: no adhesion in them
+            if (adhesive) check_adhesive_cg(d, n, have_v3);
+            if (!adhesive) {  // the CGs' passes without adhesion
                 compare_builds("CG", n, [&](const auto &b, std::vector<double> &out) { run_cg(b, d, n, out); },
                                CgReference{}, have_v3);
                 compare_builds("PK", n, [&](const auto &b, std::vector<double> &out) { run_pk(b, d, n, out); },
