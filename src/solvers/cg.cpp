@@ -189,9 +189,10 @@ void SurfaceCg::advance(StepContext &c, RealBuffer *scratch) {
 // 0.5] of the last, up to kMaxBacktracks times, each one forward transform.  A step that still
 // fails is undone (z from the scratch) and the next direction is the projected force itself, along
 // which a small enough step always descends.  Steps the wall does not stop are exact minimizers
-// and are not checked.
+// and are not checked; with adhesion (adhesive_line_minimum, below) they are, against the energy
+// change the line search summed along their path, and this check follows if that fails.  With
+// adhesion E includes -U_ad.
 namespace {
-
 // The smallest step along t at which a point above the wall (z > h) moving down reaches it, if
 // below alpha; else 0.
 double first_contact(const FftGrid &grid, const double *z, const double *h, const double *t, double alpha) {
