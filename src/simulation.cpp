@@ -39,21 +39,17 @@ RealBuffer copy_of(const RealBuffer &from) {
     return to;
 }
 
-
-// With adhesion the CG is the surface CG with its adhesive line search (cg.cpp), built and checked
-// for a layer on a fluid foundation under pressure control: Polonsky & Keer's iteration (a
-// half-space, a bonded layer) solves the quadratic problem on the pressure, and the surface CG
-// under displacement control is not preconditioned nor its steps checked.
-bool cg_takes(const Params &p) {
-    return !(p.gamma0 > 0.0) || p.control == kPressureControl;
-}
+// With adhesion the CG is the preconditioned surface CG with its adhesive line search (cg.cpp),
+// on every body under pressure control; under displacement control the surface CG is neither
+// preconditioned nor are its steps checked against the energy, so it does not take adhesion there.
+bool cg_takes(const Params &p) { return !(p.gamma0 > 0.0) || p.control == kPressureControl; }
 
 // GFMD_ERR_STATE if GFMD_SOLVER_CG would run p (set or kept by the caller) and cannot.
 void require_cg_takes(const Params &p, int32_t solver) {
     if (solver == GFMD_SOLVER_CG && !cg_takes(p))
         fail(GFMD_ERR_STATE,
-             "the CG solver takes adhesion only on a layer on a fluid foundation under pressure control; "
-             "otherwise choose GFMD_SOLVER_FIRE, GFMD_SOLVER_FIRE_MASS, GFMD_SOLVER_VERLET or GFMD_SOLVER_AUTO");
+             "the CG solver takes adhesion under pressure control only; under displacement control with "
+             "adhesion choose GFMD_SOLVER_FIRE, GFMD_SOLVER_FIRE_MASS, GFMD_SOLVER_VERLET or GFMD_SOLVER_AUTO");
 }
 }  // namespace
 
@@ -158,7 +154,6 @@ void Simulation::set_green(int32_t kind, double width) {
     Params p = params_;
     p.kind = kind;
     p.width = width;
-    require_cg_takes(p, params_.solver);
     change_body("this Green's function", p);
 }
 
@@ -444,11 +439,12 @@ constexpr double kAutoMassThickness = 6.0;
 // against 139.5, 36.4 against 73.2, 29.8 against 49.8; but on W = 0.25 (4.4) 32.6 against 31.6,
 // 30.2 against 25.6, 23.5 against 20.4.
 constexpr double kAutoMassThinnerThickness = 4.0;
-// With adhesion under pressure control the CG (the surface CG with its adhesive line search, since
-// 2026-11-27, late night) on every body but the adhesive sheets thinner than the grid resolves, q_t w < 6
-// (kAutoMassThickness, the mass-weighted rule's bound): its iteration costs about 2.5 FFT pairs
-// and a few passes with an exponential, 2.9 times a FIRE step at 512^2 and 2048^2, and wins where it needs
-// about a third of the steps or fewer.  Measured (docs/performance.md "The adhesive CG"): the 40
+// With adhesion under pressure control the CG (the surface CG with its adhesive line search,
+// since 2026-11-27, late night) on every body but the adhesive sheets thinner than the grid
+// resolves, q_t w < 6 (kAutoMassThickness, the mass-weighted rule's bound): its iteration costs
+// about 2.5 FFT pairs and a few passes with an exponential, 2.9 times a FIRE step at 512^2 and
+// 2048^2, and wins where it needs about a third of the steps or fewer.  Measured
+// (docs/performance.md "The adhesive CG"): the 40
 // random bodies of gfmd_bench --random 40 --seed 1 (128^2-256^2), the CG the fastest solver on
 // every adhesive body under pressure control (half-spaces 2.0x and 2.8x, bonded layers 1.7-3.5x,
 // fluid layers w = 1.9a-63a with q_t w = 8.4-280 1.8-5.3x faster than the default of then), on
@@ -456,10 +452,10 @@ constexpr double kAutoMassThinnerThickness = 4.0;
 // continuing loads (gfmd_bench --sweep --adhesion) at 512^2 W = 10 and 4 (q_t w = 178, 71)
 // 0.60x and 0.68x the default's seconds, W = 0.5 (8.9) 0.91x, W = 0.25 (4.4) 1.43x, W = 1 (17.8)
 // 1.13x, at 2048^2 W = 4 0.71x, W = 1 0.98x, and the study's whole sweeps at 256^2 and 512^2
-// (W = 2 ... 40, the first load from flat) 0.40-0.57x, all with the CG's passes before they were merged; after,
-// at 2048^2 the half-space 0.88x FIRE's seconds, W = 0.5 0.88x the approach's.  The thin sheets
-// below the bound keep their rule: there the CG lost (W = 0.25 above; W = 0.088's whole sweep at 256^2
-// 2.4x the default's seconds).
+// (W = 2 ... 40, the first load from flat) 0.40-0.57x, all with the CG's passes before they were
+// merged; after, at 2048^2 the half-space 0.88x FIRE's seconds, W = 0.5 0.88x the approach's.
+// The thin sheets below the bound keep their rule: there the CG lost (W = 0.25 above; W = 0.088's
+// whole sweep at 256^2 2.4x the default's seconds).
 constexpr double kAutoAdhesiveCgThickness = kAutoMassThickness;
 
 // Under displacement control, mass-weighted FIRE on a layer on a fluid foundation whose longest

@@ -1,9 +1,11 @@
-// Constrained conjugate gradients: the elastic energy plus the load's work is a quadratic
-// function of z, minimized under z >= h.  Under pressure control the iteration is Polonsky &
-// Keer's on the contact pressure (pk.hpp); under displacement control, where the load is an
-// outcome, projected CG on the surface z itself (below).  For bodies whose modes span a modest
-// range of stiffness (a coating, a small half-space) they need far fewer force evaluations than
-// FIRE.
+// Constrained conjugate gradients: the elastic energy plus the load's work (with adhesion minus
+// the adhesive energy) minimized under z >= h.  Without adhesion the energy is a quadratic
+// function of z: under pressure control on a half-space or a bonded layer the iteration is
+// Polonsky & Keer's on the contact pressure (pk.hpp); on a layer on a fluid foundation, under
+// displacement control, where the load is an outcome, and with adhesion (under pressure control
+// only), projected CG on the surface z itself (below; with adhesion its line search follows the
+// adhesive energy).  For bodies whose modes span a modest range of stiffness (a coating, a small
+// half-space) they need far fewer force evaluations than FIRE.
 #ifndef GFMD_SRC_SOLVERS_CG_HPP
 #define GFMD_SRC_SOLVERS_CG_HPP
 
@@ -14,8 +16,9 @@
 
 namespace gfmd {
 
-// Projected CG on z with an exact line search; its direction lives in the velocity field.  Given a
-// scratch buffer, preconditioned by the inverse stiffness (cg.cpp).
+// Projected CG on z with an exact line search (with adhesion, Newton's along the direction); its
+// direction lives in the velocity field.  Given a scratch buffer, preconditioned by the inverse
+// stiffness (cg.cpp).
 class SurfaceCg {
 public:
     void restart() {
@@ -71,8 +74,9 @@ private:
     static bool uses_surface(const Params &p) {
         return p.control == kDisplacementControl || p.kind == GFMD_GREEN_LAYER_FLUID || p.gamma0 > 0.0;
     }
-    // Preconditioned on a layer on a fluid foundation under pressure control (not with the mean
-    // held: the projection would fight the preconditioner's long waves, as it did mass-weighted FIRE's).
+    // Preconditioned on a layer on a fluid foundation, and with adhesion on every body, under
+    // pressure control (not with the mean held: the projection would fight the preconditioner's
+    // long waves, as it did mass-weighted FIRE's).
     static bool preconditioned(const Params &p) {
         return p.control == kPressureControl && (p.kind == GFMD_GREEN_LAYER_FLUID || p.gamma0 > 0.0);
     }

@@ -169,6 +169,40 @@ static void adhesion_cg(void **state) {
     }
 }
 
+/* Every iteration of the adhesive CG lowers the energy U_el - U_ad + sigma0 A <z> (its steps are
+ * checked against it): iterated one gfmd_step at a time from flat to convergence on a half-space, a
+ * thick and a thin layer, the energy evaluated through the public getters after each. */
+static void adhesion_cg_descends(void **state) {
+    (void)state;
+    const double widths[] = {0.0, 8.0, 1.0};
+    for (size_t w = 0; w < sizeof widths / sizeof widths[0]; ++w) {
+        gfmd_sim *s = ts_create(N, N, L, L);
+        TS_OK(s, gfmd_generate_selfaffine(s, 0.8, 16.0, 4.0, 1.0, 77, GFMD_DIST_UNIFORM));
+        if (widths[w] > 0.0) TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, widths[w]));
+        TS_OK(s, gfmd_set_adhesion(s, GAMMA0, RHO));
+        TS_OK(s, gfmd_set_solver(s, GFMD_SOLVER_CG));
+        TS_OK(s, gfmd_set_pressure(s, SIGMA0));
+        double last = HUGE_VAL, residual = 1.0;
+        int k = 0, rises = 0;
+        for (; k < 2000 && residual > 1e-10; ++k) {
+            double el = 0.0, ad = 0.0, zbar = 0.0;
+            TS_OK(s, gfmd_get_energies(s, &el, &ad));
+            TS_OK(s, gfmd_get_mean_displacement(s, &zbar));
+            const double e = el - ad + SIGMA0 * L * L * zbar;
+            /* rounding: the energies are sums over 4096 points and modes, about 1e-13 of their size */
+            if (e > last + 1e-11 * (fabs(el) + ad + SIGMA0 * L * L * fabs(zbar))) ++rises;
+            last = e;
+            TS_OK(s, gfmd_step(s, 1));
+            TS_OK(s, gfmd_get_residual(s, &residual));
+        }
+        print_message("w = %g: %d iterations to a residual of %.1e, the energy rose %d times\n", widths[w], k, residual,
+                      rises);
+        assert_true(residual <= 1e-10);
+        assert_int_equal(rises, 0);
+        gfmd_sim_destroy(&s);
+    }
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(adhesion_halfspace),
@@ -176,6 +210,7 @@ int main(void) {
         cmocka_unit_test(adhesion_mass_weighted),
         cmocka_unit_test(adhesion_approach_then_fire),
         cmocka_unit_test(adhesion_cg),
+        cmocka_unit_test(adhesion_cg_descends),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
