@@ -72,11 +72,8 @@ static void relax_with_approach(gfmd_sim *s, int32_t solver, const options *o, i
 
 void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, const options *o, sweep *out,
                FILE *log) {
-    /* CG takes adhesion on a layer on a fluid foundation only: the adhesive half-space then takes
-     * the library's automatic choice */
-    const int32_t solver = o->solver;
     const int levels = o->levels;
-    gfmd_sim *s = make_body(surface, W, solver);
+    gfmd_sim *s = make_body(surface, W, o->solver);
     if (adhesive) CHECK(s, gfmd_set_adhesion(s, GAMMA0, RHO));
     out->W = W;
     out->n = N_LOADS;
@@ -92,7 +89,7 @@ void run_sweep(const gfmd_sim *surface, double W, int adhesive, double u_max, co
             int64_t coarse = 0;
             CHECK(s, gfmd_relax_multilevel(s, 0.0, 2000000, levels, &steps, &coarse));
         } else {
-            relax_with_approach(s, solver, o, &steps);
+            relax_with_approach(s, o->solver, o, &steps);
         }
         p->seconds = now() - t0;
         p->steps = (long long)steps;
