@@ -344,10 +344,15 @@ void cg_restrict(const double *z, const double *h, const double *f, double *zp, 
 }
 
 namespace {
-// The line search's weight at the gap g: exp(-g inv_rho) above the wall, 1 at it.
-inline __attribute__((always_inline)) Quad adhesive_weight(Quad g, double inv_rho) {
+// The adhesive line search's terms at the gap g along t (cg_adhesive_line): the weight w =
+// exp(-g inv_rho) above the wall, 1 at it, added to s0, w t to s1, w t^2 above the wall to s2.
+inline __attribute__((always_inline)) void add_line_terms(Quad g, Quad t, double inv_rho, Quad &s0, Quad &s1,
+                                                          Quad &s2) {
     const Quad one = Quad{} + 1.0;
-    return blend(g > 0.0, exp_quad(-g * inv_rho), one);
+    const Quad w = blend(g > 0.0, exp_quad(-g * inv_rho), one);
+    s0 += w;
+    s1 += w * t;
+    s2 += select(g > 0.0, w * (t * t));
 }
 
 // Pads of the last octet: an infinite gap, so t = 0 and no weight.
@@ -362,13 +367,7 @@ inline __attribute__((always_inline)) void direction(const double *z, const doub
         const Quad ti = select(free, load_some(full, s + i, m, 0.0) + b * load_some(full, t + i, m, 0.0));
         store_some(full, t + i, ti, m);
         rt[half] += fq * ti;
-        if constexpr (Adhesive) {  // cg_adhesive_line's sums at alpha = 0
-            const Quad g = zq - hq;
-            const Quad w = adhesive_weight(g, inv_rho);
-            s0[half] += w;
-            s1[half] += w * ti;
-            s2[half] += select(g > 0.0, w * (ti * ti));
-        }
+        if constexpr (Adhesive) add_line_terms(zq - hq, ti, inv_rho, s0[half], s1[half], s2[half]);  // alpha = 0
     });
     add_lanes(rt, acc);
     if constexpr (Adhesive) {
@@ -394,10 +393,7 @@ void cg_adhesive_line(const double *z, const double *h, const double *t, double 
     over_octets(n, [&](auto full, int64_t i, int64_t m, int half) {
         const Quad ti = load_some(full, t + i, m, 0.0);
         const Quad g = (load_some(full, z + i, m, HUGE_VAL) - load_some(full, h + i, m, 0.0)) + alpha * ti;
-        const Quad w = adhesive_weight(g, inv_rho);
-        s0[half] += w;
-        s1[half] += w * ti;
-        s2[half] += select(g > 0.0, w * (ti * ti));
+        add_line_terms(g, ti, inv_rho, s0[half], s1[half], s2[half]);
     });
     add_lanes(s1, acc);
     add_lanes(s2, acc + 1);
