@@ -171,15 +171,20 @@ static void rewrite(const char *path, long keep, long flip_at, const unsigned ch
     free(buf);
 }
 
-static void expect_refused(int32_t expected, const char *what) {
+/* damaged.gfmd refused with `expected`, the handle left NULL, a message given (containing `says`
+ * unless that is NULL) */
+static void expect_refused_saying(int32_t expected, const char *what, const char *says) {
     gfmd_sim *s = (gfmd_sim *)&s;
-    char msg[256] = "";
+    char msg[512] = "";
     int32_t st = gfmd_sim_load("damaged.gfmd", &s, msg, sizeof msg);
     if (st != expected) fail_msg("%s: got %s (%s)", what, gfmd_status_string(st), msg);
     assert_null(s);
     assert_true(strlen(msg) > 0);
+    if (says && !strstr(msg, says)) fail_msg("%s: the message does not say '%s': %s", what, says, msg);
     print_message("%s: %s: %s\n", what, gfmd_status_string(st), msg);
 }
+
+static void expect_refused(int32_t expected, const char *what) { expect_refused_saying(expected, what, NULL); }
 
 static void damaged_files_are_refused(void **state) {
     (void)state;
@@ -595,6 +600,61 @@ static void forged_headers_are_refused(void **state) {
     remove(PATH);
 }
 
+/* The combination the setters refuse (GFMD_ERR_STATE: adhesion, the CG and displacement control)
+ * cannot come in through a file either: a checkpoint of the adhesive CG under pressure control,
+ * its control patched to displacement control (at the surface's own mean, which the loader
+ * adopts) and rehashed, is refused with GFMD_ERR_FORMAT -- with the CG set, and with AUTO set and
+ * the CG recorded as its choice.  The same patch on the same file without adhesion (gamma0 = 0)
+ * loads: the refusal is the combination's, not the patch's. */
+enum { OFF_GAMMA0 = 84, OFF_SOLVER = 116, OFF_MEAN_Z = 124, OFF_ACTIVE = 140 };
+
+static void forged_cg_with_adhesion_under_displacement_is_refused(void **state) {
+    (void)state;
+    gfmd_sim *a = make(GFMD_SOLVER_CG); /* bonded, adhesive, pressure control: the adhesive CG */
+    TS_OK(a, gfmd_step(a, 5));
+    double z[NX * NY], mean = 0.0;
+    TS_OK(a, gfmd_get_surface(a, z));
+    for (int i = 0; i < NX * NY; ++i) mean += z[i];
+    mean /= NX * NY;
+    TS_OK(a, gfmd_sim_save(a, PATH));
+    gfmd_sim_destroy(&a);
+    long n = 0;
+    unsigned char *buf = read_all(PATH, &n);
+    uint32_t count = 0;
+    memcpy(&count, buf + OFF_STATE, 4);
+    const long fields_at = OFF_STATE + 4 + 8L * count + 4;
+    const int k = (int)((n - 8 - fields_at) / (8L * NX * NY + 8L * NY)); /* h, z, v and the CG's own */
+    assert_int_equal(fields_at + k * (8L * NX * NY + 8L * NY) + 8, n);
+    const int32_t displacement = 1, auto_solver = GFMD_SOLVER_AUTO, cg = GFMD_SOLVER_CG;
+    int32_t active = -1;
+    memcpy(&active, buf + OFF_ACTIVE, 4);
+    assert_int_equal(active, cg);
+    memcpy(buf + OFF_CONTROL, &displacement, 4);
+    memcpy(buf + OFF_MEAN_Z, &mean, 8);
+    write_rehashed5("damaged.gfmd", buf, n, k);
+    expect_refused_saying(GFMD_ERR_FORMAT, "CG with adhesion under displacement control", "adhesion under pressure control only");
+    memcpy(buf + OFF_SOLVER, &auto_solver, 4);
+    write_rehashed5("damaged.gfmd", buf, n, k);
+    expect_refused_saying(GFMD_ERR_FORMAT, "AUTO's CG with adhesion under displacement control",
+                          "adhesion under pressure control only");
+
+    const double none = 0.0;
+    memcpy(buf + OFF_SOLVER, &cg, 4);
+    memcpy(buf + OFF_GAMMA0, &none, 8);
+    write_rehashed5("damaged.gfmd", buf, n, k);
+    gfmd_sim *b = NULL;
+    char msg[256] = "";
+    if (gfmd_sim_load("damaged.gfmd", &b, msg, sizeof msg) != GFMD_OK) fail_msg("without adhesion: %s", msg);
+    int32_t solver = -1;
+    TS_OK(b, gfmd_get_solver(b, &solver));
+    assert_int_equal(solver, cg);
+    TS_OK(b, gfmd_step(b, 3)); /* it steps */
+    gfmd_sim_destroy(&b);
+    free(buf);
+    remove("damaged.gfmd");
+    remove(PATH);
+}
+
 /* A save that fails half-way (the file size limit reached while writing the fields) reports
  * GFMD_ERR_IO and leaves neither the checkpoint nor its temporary file behind. */
 static void failed_save_leaves_nothing(void **state) {
@@ -635,6 +695,7 @@ int main(void) {
         cmocka_unit_test(surface_cg_flag_values),
         cmocka_unit_test(mass_fire_state_without_estimates_resumes),
         cmocka_unit_test(forged_headers_are_refused),
+        cmocka_unit_test(forged_cg_with_adhesion_under_displacement_is_refused),
         cmocka_unit_test(failed_save_leaves_nothing),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
