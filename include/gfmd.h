@@ -234,12 +234,15 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * FIRE: the 128^2 half-space above A/A0 0.155, a bonded layer w = 32 a above 0.24; w = 8 a keeps
  * CG up to 0.97), and on a half-space or bonded layer of any size at a low load, where Persson's
  * A/A0 times sqrt(nx ny) < 20 (few contacts: A/A0 < 0.01 at 2048^2) -- and on every layer on a
- * fluid foundation (preconditioned there), except that from nx ny >= 2048^2 on a load that starts from a deformed
- * surface (not flat: a load continuing from the last equilibrium) takes GFMD_SOLVER_FIRE there
- * at a load where Persson's A/A0 >= 0.04 (CG below), unless the layer is of
- * middle width, f(q_min w) >= 1e4 and q_max w >= 6 with q_max = pi sqrt(2)/a (then CG), or thin,
- * q_max w < 6 (then GFMD_SOLVER_FIRE_MASS at Persson's A/A0 < 0.15/(q_max w), GFMD_SOLVER_MASS_FIRE
- * below twice that or 0.15, whichever is lower, GFMD_SOLVER_FIRE above); with adhesion (under
+ * fluid foundation (preconditioned there), except that a load that starts from a deformed surface
+ * (not flat: a load continuing from the last equilibrium) on a sheet thinner than the grid
+ * resolves, q_max w < 6 with q_max = pi sqrt(2)/a, takes GFMD_SOLVER_FIRE_MASS at Persson's
+ * A/A0 < 0.15/(q_max w), GFMD_SOLVER_MASS_FIRE below twice that or 0.15, whichever is lower, and
+ * GFMD_SOLVER_FIRE above -- from nx ny >= 2048^2 on, and below that where the sheet is thinner
+ * still, q_max w < 4.5, and its longest wave very soft, f(q_min w) >= 1e6, on a grid of at least
+ * 128^2 points -- and from nx ny >= 2048^2 on such
+ * a load on a thicker layer takes GFMD_SOLVER_FIRE at a load where Persson's A/A0 >= 0.04 (CG
+ * below), unless the layer is of middle width, f(q_min w) >= 1e4 (then CG); with adhesion (under
  * pressure control) GFMD_SOLVER_CG on a half-space, a bonded layer and a layer on a fluid
  * foundation no thinner than the grid resolves, q_t w >= 6, q_t = min(q_max, 2 sqrt(2) q_s) with
  * q_s the substrate's shortest wave (the |q| below which all but 1e-4 of its slope variance lies:
@@ -366,10 +369,10 @@ GFMD_API int32_t gfmd_relax(gfmd_sim *s, double tol, int64_t max_steps, int64_t 
  * surface filtered to each grid by dropping the modes it cannot hold; the solver the handle's
  * setting gives on that grid), each coarse surface interpolated to the next finer grid (zero-padded
  * spectrum, then lifted onto the substrate where it would penetrate), and relaxed there in turn
- * (GFMD_SOLVER_AUTO chooses again for that deformed start, as for a load that continues: from
- * 2048^2 on, a thick layer on a fluid foundation without adhesion takes FIRE there at a higher
- * load, a thin sheet FIRE, mass-weighted FIRE or the approach then FIRE, not the CG of a flat
- * start; a failed call restores the solver of its start), to
+ * (GFMD_SOLVER_AUTO chooses again for that deformed start, as for a load that continues: a thin
+ * sheet without adhesion FIRE, mass-weighted FIRE or the approach then FIRE, and from 2048^2 on
+ * a thick layer on a fluid foundation FIRE at a higher load, not the CG of a flat start; a failed
+ * call restores the solver of its start), to
  * the same tol and at most @p max_steps steps per grid; then this grid as gfmd_relax() does.  The
  * long waves relax where steps are cheap; measured, that saves 14-24 % of a thin sheet's time
  * from flat with FIRE and 3 % with mass-weighted FIRE (docs/performance.md): the steps a soft

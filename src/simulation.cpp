@@ -372,6 +372,23 @@ constexpr double kAutoContinueFirePoints = 2048.0 * 2048.0;
 // (q_max w = 4.4, w = a) and 1.29x on W = 0.177 (3.1).  So a continuing load at >= 2048^2 stays CG's on a layer whose longest
 // wave is plate-like, f(q_min w) >= 1e4, and which is not thinner than the grid resolves,
 // q_max w >= 6 (q_max = pi sqrt(2)/a, the grid's corner): both bounds between the rows above.
+// Below 2048^2 the same choice on the thin sheets whose longest wave is very soft, f(q_min w) >=
+// 1e6, and that are well below the thin bound, q_max w < 4.5, on grids of at least 128^2 points,
+// where the CG had stayed.  Measured 2026-11-28 (gfmd_bench --sweep --columns cg,auto --verbose:
+// the study's nine continuing loads, one thread, two runs side by side; log
+// docs/performance_logs/thin_continuing_2026-11-28.log; docs/performance.md "The thin sheets'
+// continuing loads below 2048^2"): the rule's choices took 0.35-0.68x the CG's seconds at 1024^2
+// (W = 0.044 ... 0.25: f = 2.6e7 ... 4.8e9, q_max w = 0.78 ... 4.4), 0.46-0.89x at 512^2 (W =
+// 0.044 ... 0.25), 0.57-0.84x at 256^2 (W = 0.044 ... 0.177, f >= 1.1e6) and 0.75x, 0.81x at 128^2
+// (W = 0.044, 0.0625: f = 9.3e6, 3.3e6).  The CG stays on the rest, where it won or tied: at the
+// thin bound's edge 512^2, W = 0.3, 0.33 (q_max w = 5.3, 5.9; f = 1.9e6, 1.4e6: the rule's 1.05x,
+// 1.16x the CG's seconds, 0.98x, 0.97x in a noisier run), below f = 1e6 256^2, W = 0.25 (4.1e5: 1.02-1.05x), W = 0.3, 0.33 (2.4e5,
+// 1.8e5: 1.3-1.6x), 128^2, W = 0.125, 0.177 (4.1e5, 1.4e5: 0.91x, 0.96x, ties) and W = 0.25 (5.1e4:
+// 1.43x), and on the smallest grid, 64^2, W = 0.044 (f = 1.2e6: 2.2x, 0.11 s against 0.05 s).  From
+// 2048^2 on every thin sheet (q_max w < 6) keeps the choice above, measured there.
+constexpr double kAutoContinueThinSoftness = 1e6;
+constexpr double kAutoContinueThinThickness = 4.5;
+constexpr double kAutoContinueThinPoints = 128.0 * 128.0;
 constexpr double kAutoContinueCgSoftness = 1e4;
 constexpr double kAutoContinueCgThickness = 6.0;
 // Of the rest, the sheets thinner than the grid resolves (q_max w < 6) take mass-weighted FIRE
@@ -528,11 +545,14 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
     }
     if (params_.kind == GFMD_GREEN_LAYER_FLUID) {
         if (quadratic) {
-            const bool big = static_cast<double>(grid_.real_size()) >= kAutoContinueFirePoints;
-            if (!big || surface_flat()) return GFMD_SOLVER_CG;
+            const double points = static_cast<double>(grid_.real_size());
             const double thickness = shortest_wave_q(grid_) * params_.width;
             const bool thin = thickness < kAutoContinueCgThickness;
-            const bool soft = longest_wave_softness(grid_, body_, params_.e_star) >= kAutoContinueCgSoftness;
+            const double f = longest_wave_softness(grid_, body_, params_.e_star);
+            const bool thin_soft = thickness < kAutoContinueThinThickness && f >= kAutoContinueThinSoftness &&
+                                   points >= kAutoContinueThinPoints;
+            if (!(points >= kAutoContinueFirePoints || thin_soft) || surface_flat()) return GFMD_SOLVER_CG;
+            const bool soft = f >= kAutoContinueCgSoftness;
             if (soft && !thin) return GFMD_SOLVER_CG;  // the middle widths
             const double area = persson_contact_area(params_.sigma0);
             if (!thin) return area < kAutoContinueFireArea ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE;

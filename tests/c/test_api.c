@@ -498,21 +498,29 @@ static void automatic_choice(void **state) {
  * (f(q_min w) >= 1e4 and q_max w >= 6: w = 4 a) and, on thinner (w = 0.5 a: q_max w = 2.2) and
  * thicker layers (w = 64 a at 2048^2: f(q_min w) = 800; w = 16 a: 5.1e4 is CG's), by Persson's
  * A/A0 at the load: on the thin ones mass-weighted FIRE below 0.15/(q_max w), the approach then
- * FIRE below twice that (at most 0.15), FIRE above; on the thick ones the approach below 0.04,
- * FIRE above (the rule of
- * gfmd_set_solver(), measured in docs/paper/full.md and docs/performance.md); at 1024^2 CG
- * either way.  The
+ * FIRE below twice that (at most 0.15), FIRE above; on the thick ones CG below 0.04, FIRE above
+ * (the rule of gfmd_set_solver(), measured in docs/paper/full.md and docs/performance.md).  On
+ * smaller grids (128^2, 1024^2) the thin sheets choose as at 2048^2 (since 2026-11-28: measured
+ * there too), the thicker layers CG either way.  The
  * same for the finest grid of a multilevel start, which starts from an interpolated surface.  A
  * 2048^2 grid costs tens of seconds under valgrind: natively and under the sanitizers only, and
- * under these 1024^2 only (the same calls on a quarter of the points; the whole test_api took
+ * under these 128^2 and 1024^2 only (the same calls on fewer points; the whole test_api took
  * 29.7 s under ASan + UBSan with 2048^2, 5.7 s without; the rule's 2048^2 branches are
  * arithmetic on the same sums). */
+/* f(q_min w) of an n x n grid of spacing 1 for a layer of width w on a fluid foundation */
+static double longest_wave(int64_t n, double w) {
+    double f = 0.0;
+    assert_int_equal(gfmd_green_factor(GFMD_GREEN_LAYER_FLUID, 2.0 * acos(-1.0) / (double)n * w, 0.3, &f), GFMD_OK);
+    return f;
+}
+
 static void automatic_choice_when_continuing(void **state) {
     (void)state;
     if (ts_valgrind()) skip();
     const double pi = acos(-1.0);
-    const int64_t sizes[] = {1024, 2048};
-    const int nsizes = ts_memory_checked() ? 1 : 2;
+    /* the thin sheets' choices on every grid, the thicker layers' from 2048^2 on */
+    const int64_t sizes[] = {128, 1024, 2048};
+    const int nsizes = ts_memory_checked() ? 2 : 3;
     for (int k = 0; k < nsizes; ++k) {
         const int64_t n = sizes[k];
         gfmd_sim *s = NULL;
@@ -537,13 +545,20 @@ static void automatic_choice_when_continuing(void **state) {
          * Persson's A/A0 is 1 on all three (a high load) */
         const double other_widths[3] = {0.5, 16.0, 64.0};
         const int32_t at_2048[3] = {GFMD_SOLVER_FIRE, GFMD_SOLVER_CG, GFMD_SOLVER_FIRE};
+        const double q_max = pi * sqrt(2.0); /* a = 1 */
+        /* below 2048^2 a thin sheet takes the rule only where it is thinner still, q_max w <
+         * 4.5 (w < 1.013 a: every thin width here but w = 1.2 a, 5.33), and its longest wave very
+         * soft, f(q_min w) >= 1e6: at 128^2 w < 0.37 a (0.2 a, 0.352 a, 0.25 a, 0.176 a; not
+         * 0.5 a, 0.708 a, a), at 1024^2 every width here up to 1.2 a */
+        const int64_t thin_from = 128 * 128;
         for (int w = 0; w < 3; ++w) {
             TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, other_widths[w])); /* the surface stays */
             double area = 0.0;
             TS_OK(s, gfmd_persson_contact_area(s, 0.02, &area));
             assert_true(area > 0.15);
             TS_OK(s, gfmd_get_solver(s, &solver));
-            assert_int_equal(solver, n >= 2048 ? at_2048[w] : GFMD_SOLVER_CG);
+            const int thin = q_max * other_widths[w] < 4.5 && longest_wave(n, other_widths[w]) >= 1e6 && n * n >= thin_from;
+            assert_int_equal(solver, (n >= 2048 || thin) ? at_2048[w] : GFMD_SOLVER_CG);
         }
         /* by Persson's A/A0 at the load, both sides of each bound: a thin sheet (q_max w < 6)
          * mass-weighted FIRE below 0.15/(q_max w), the approach then FIRE below twice that or
@@ -551,7 +566,8 @@ static void automatic_choice_when_continuing(void **state) {
          * w = a (4.44: 0.0338, 0.0675), w = 0.2 a (0.89: 0.169, and no approach); the study's
          * other thin sheets (w = 4 W a, docs/performance.md quotes these bounds): W = 0.177, w =
          * 0.708 a (3.15: 0.0477, 0.0954), W = 0.088, w = 0.352 a (1.56: 0.0959, 0.15), W = 0.0625,
-         * w = 0.25 a (1.11: 0.135, 0.15), W = 0.044, w = 0.176 a (0.78: 0.192, no approach); the
+         * w = 0.25 a (1.11: 0.135, 0.15), W = 0.044, w = 0.176 a (0.78: 0.192, no approach), w = 1.2 a
+         * (5.33: below 0.028; below 2048^2 thicker than the small grids' 4.5); the
          * thick layer (w = 64 a) CG below 0.04 (the approach before the CG's floor at dense contacts),
          * FIRE above */
         const struct {
@@ -569,6 +585,7 @@ static void automatic_choice_when_continuing(void **state) {
                      {0.25, 0.133, GFMD_SOLVER_FIRE_MASS}, {0.25, 0.137, GFMD_SOLVER_MASS_FIRE},
                      {0.25, 0.148, GFMD_SOLVER_MASS_FIRE}, {0.25, 0.152, GFMD_SOLVER_FIRE},
                      {0.176, 0.19, GFMD_SOLVER_FIRE_MASS}, {0.176, 0.194, GFMD_SOLVER_FIRE},
+                     {1.2, 0.02, GFMD_SOLVER_FIRE_MASS},
                      {64.0, 0.035, GFMD_SOLVER_CG}, {64.0, 0.045, GFMD_SOLVER_FIRE}};
         for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
             double load = 0.0;
@@ -579,7 +596,8 @@ static void automatic_choice_when_continuing(void **state) {
             TS_OK(s, gfmd_persson_load(s, cases[c].area, &load));
             TS_OK(s, gfmd_set_pressure(s, load));
             TS_OK(s, gfmd_get_solver(s, &solver));
-            assert_int_equal(solver, n < 2048 ? GFMD_SOLVER_CG : cases[c].at_2048);
+            const int thin = q_max * cases[c].width < 4.5 && longest_wave(n, cases[c].width) >= 1e6 && n * n >= thin_from;
+            assert_int_equal(solver, (n >= 2048 || thin) ? cases[c].at_2048 : GFMD_SOLVER_CG);
         }
         TS_OK(s, gfmd_set_pressure(s, 0.02));
         TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 4.0));
@@ -588,16 +606,35 @@ static void automatic_choice_when_continuing(void **state) {
         assert_int_equal(solver, GFMD_SOLVER_CG);
         /* A multilevel start: this grid starts from the coarse surface interpolated to it, a
          * deformed surface, and the default chooses for that start as for a load that continues.
-         * A thick layer at a pressure well below full contact (pi E* 0.5/wavelength >= 0.003;
+         * A thin soft sheet (w = 0.2 a: f(q_min w) = 6.3e6 at 128^2) at Persson's A/A0 = 0.16
+         * (below its mass-weighted bound 0.169): mass-weighted FIRE on this grid at every size
+         * here (its flat start's CG before 2026-11-28 below 2048^2). */
+        int64_t steps = 0, coarse = 0;
+        double thin_load = 0.0;
+        TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 0.2));
+        TS_OK(s, gfmd_persson_load(s, 0.16, &thin_load));
+        TS_OK(s, gfmd_set_pressure(s, thin_load));
+        TS_OK(s, gfmd_reset(s));
+        TS_OK(s, gfmd_get_solver(s, &solver));
+        assert_int_equal(solver, GFMD_SOLVER_CG); /* flat */
+        assert_int_equal(gfmd_relax_multilevel(s, 0.0, 3, 2, &steps, &coarse), GFMD_ERR_NOT_CONVERGED);
+        assert_int_equal(steps, 3);
+        TS_OK(s, gfmd_get_solver(s, &solver));
+        assert_int_equal(solver, GFMD_SOLVER_FIRE_MASS);
+        TS_OK(s, gfmd_reset(s));
+        /* A thick layer at a pressure well below full contact (pi E* 0.5/wavelength >= 0.003;
          * Persson's A/A0 above 0.04: FIRE at 2048^2; below 0.04 a continuing load there takes CG,
          * as a flat start does): the thin one above is in full contact, which every solver
          * reaches at once. */
+        if (n < 1024) { /* on 128^2 this sinusoid's wave is too short for that load */
+            gfmd_sim_destroy(&s);
+            continue;
+        }
         TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 1e6));
         TS_OK(s, gfmd_set_pressure(s, 5e-4));
         double area = 0.0;
         TS_OK(s, gfmd_persson_contact_area(s, 5e-4, &area));
         assert_true(area > 0.05);
-        int64_t steps = 0, coarse = 0;
         assert_int_equal(gfmd_relax_multilevel(s, 0.0, 3, 2, &steps, &coarse), GFMD_ERR_NOT_CONVERGED);
         assert_int_equal(steps, 3);
         TS_OK(s, gfmd_get_solver(s, &solver));
