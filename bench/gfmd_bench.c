@@ -24,11 +24,13 @@
  *                                multilevel start and the default solver (--levers: those only)
  *   gfmd_bench --sweep [--sizes 2048] [--widths 0.25,1,100] [--threads N]
  *        [--adhesion] [--no-cg] [--verbose] [--from A] [--columns fire,m+fire,mass,cg,auto]
+ *        [--substrate H,LS,R,SEED]
  *                                the study's continuing loads on each body by FIRE, the approach
  *                                then FIRE, mass-weighted FIRE, CG and the default (its choices);
  *                                --from: those at Persson's A/A0 >= A only (the lower ones
  *                                relaxed once by the default, untimed); --columns: those
- *                                columns only
+ *                                columns only; --substrate: Hurst exponent H, lambda_s = LS a,
+ *                                lambda_r = n a/R and the seed instead of the study's 0.8,4,8,2016
  *   gfmd_bench --big [--sigma0 S] [--threads 2] [--sizes 4096]
  *                                one W = 1 layer from flat to the default tolerance at 4096^2
  *   gfmd_bench --displacement [--sizes 256] [--widths 0.25,1,4,8,16,0] [--below B | --gap R [--positions K]]
@@ -73,6 +75,7 @@
 #include <fftw3.h>
 #include <gfmd.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -283,12 +286,18 @@ static gfmd_run timed_relax(gfmd_sim *s, int32_t solver, double sigma0, double a
 
 /* A body of the benchmark's problem on an n x n grid: half-space (W = 0) or a layer on a fluid
  * foundation, w = 4 W a; FFTW_MEASURE plans, one thread. */
+/* The substrate of bench_body: H, lambda_s (in a), lambda_r = n a / ratio, seed (--substrate, with
+ * --sweep only; the study's by default) */
+static double substrate_hurst = 0.8, substrate_lambda_s = 4.0, substrate_ratio = 8.0;
+static uint64_t substrate_seed = 2016;
+
 static gfmd_sim *bench_body(int n, double W, double sigma0, int32_t solver) {
     gfmd_sim *s = NULL;
     int32_t st;
     const double l = n;
     if ((st = gfmd_sim_create_ex(n, n, l, l, 1, GFMD_PLANNER_MEASURE, &s)) != GFMD_OK) die(NULL, st, "create");
-    if ((st = gfmd_generate_selfaffine(s, 0.8, l / 8.0, 4.0, 1.0, 2016, GFMD_DIST_UNIFORM)) != GFMD_OK)
+    if ((st = gfmd_generate_selfaffine(s, substrate_hurst, l / substrate_ratio, substrate_lambda_s, 1.0, substrate_seed,
+                                       GFMD_DIST_UNIFORM)) != GFMD_OK)
         die(s, st, "substrate");
     if (W > 0 && (st = gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, W * 4.0)) != GFMD_OK) die(s, st, "green");
     if ((st = gfmd_set_pressure(s, sigma0)) != GFMD_OK) die(s, st, "pressure");
@@ -450,9 +459,9 @@ static int sweep_table(const double *sizes, int nsizes, const double *widths, in
     static const double targets[SWEEP_LOADS] = {0.004, 0.008, 0.016, 0.03, 0.05, 0.08, 0.12, 0.18, 0.27, 0.4};
     static const char *const heads[SWEEP_SOLVERS] = {"FIRE", "m+FIRE", "mass", "CG", "auto"};
     printf("gfmd %s: the study's continuing loads (Persson A/A0 = 0.008 ... 0.4 after the first load 0.004), "
-           "layers on a fluid foundation (w = 4 W a), H = 0.8, lambda_s = 4a, lambda_r = n a/8, seed 2016, "
-           "%d thread(s), default tolerance%s\n", gfmd_version(), threads,
-           adhesion ? ", adhesion gamma0 = 5e-4, rho = a" : "");
+           "layers on a fluid foundation (w = 4 W a), H = %g, lambda_s = %ga, lambda_r = n a/%g, seed %llu, "
+           "%d thread(s), default tolerance%s\n", gfmd_version(), substrate_hurst, substrate_lambda_s, substrate_ratio,
+           (unsigned long long)substrate_seed, threads, adhesion ? ", adhesion gamma0 = 5e-4, rho = a" : "");
     if (from > 0.0) printf("the loads below Persson's A/A0 = %g relaxed once by the default, untimed; the columns from there\n", from);
     printf("%5s %7s %9s |", "n", "W", "f(qmin w)");
     for (int k = 0; k < SWEEP_SOLVERS; ++k) printf(" %7s %8s %8s |", heads[k], "s", "A/A0");
@@ -1072,7 +1081,7 @@ int main(int argc, char **argv) {
     int choices = 0, nchoice_loads = 0, ngaps = 0, random_bodies = 0;
     unsigned long long random_seed = 1;
     double cg_seconds = 120.0, sigma0 = 0.05, bonded_nu = NAN, first_tol = 0.0, sweep_from = 0.0, below = 1.0;
-    int levels = 3, levers = 15, columns = 31;
+    int levels = 3, levers = 15, columns = 31, substrate_given = 0;
     int32_t solver = GFMD_SOLVER_AUTO;
     for (int i = 1; i < argc; ++i) {
         if (!strcmp(argv[i], "--sizes") && i + 1 < argc) nsizes = parse_list(argv[++i], sizes, 7), sizes_given = 1;
@@ -1087,6 +1096,16 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--from") && i + 1 < argc) sweep_from = atof(argv[++i]), from_given = 1;
         else if (!strcmp(argv[i], "--levels") && i + 1 < argc) levels = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--columns") && i + 1 < argc) columns = parse_names(argv[++i], sweep_names, SWEEP_SOLVERS);
+        else if (!strcmp(argv[i], "--substrate") && i + 1 < argc) {
+            double v[4] = {0};
+            const int k = parse_list(argv[++i], v, 4);
+            substrate_given = 1;
+            if (k != 4 || !(v[0] > 0.0 && v[0] <= 1.0) || !(v[1] >= 2.0) || !(v[2] >= 1.0) || !(v[3] >= 0.0 && v[3] < 1e15) ||
+                v[3] != floor(v[3]))
+                substrate_given = -1;
+            else
+                substrate_hurst = v[0], substrate_lambda_s = v[1], substrate_ratio = v[2], substrate_seed = (uint64_t)v[3];
+        }
         else if (!strcmp(argv[i], "--levers") && i + 1 < argc) levers = parse_names(argv[++i], lever_names, 4);
         else if (!strcmp(argv[i], "--tol") && i + 1 < argc) first_tol = atof(argv[++i]), first_tol = first_tol > 0.0 ? first_tol : -1.0;
         else if (!strcmp(argv[i], "--widths") && i + 1 < argc) nwidths = parse_list(argv[++i], widths, 8), widths_given = 1;
@@ -1115,9 +1134,14 @@ int main(int argc, char **argv) {
         if (solver < 0 || !(sigma0 > 0.0) || levels < 1 || first_tol < 0.0 || levers < 0 || columns < 0 || random_bodies < 0 || !(below >= 0.0) || gap_rms < 0.0 || positions < 0) {
             fprintf(stderr, "usage: %s [--sizes 256,512,...] [--big] [--widths 0,0.5,1,4] [--threads N] "
                             "[--cg-seconds S] [--no-cg] [--no-alt] [--sigma0 S] [--solver auto|fire|mass|mass+fire|verlet|cg] "
-                            "[--bonded NU] [--adhesion] | --contention | --sweep [--verbose] [--from A] [--columns fire,m+fire,mass,cg,auto] | --loads L,.. | --choices L,.. [--gaps G,..] | --multilevel | --first-load [--levels L] [--tol T] [--levers fire,mass,multilevel,default] | --big | --displacement [--below B | --gap R [--positions K]] [--no-adhesion] [--bonded NU] | --random K [--seed S]\n", argv[0]);
+                            "[--bonded NU] [--adhesion] | --contention | --sweep [--verbose] [--from A] [--columns fire,m+fire,mass,cg,auto] [--substrate H,LS,R,SEED] | --loads L,.. | --choices L,.. [--gaps G,..] | --multilevel | --first-load [--levels L] [--tol T] [--levers fire,mass,multilevel,default] | --big | --displacement [--below B | --gap R [--positions K]] [--no-adhesion] [--bonded NU] | --random K [--seed S]\n", argv[0]);
             return 2;
         }
+    }
+    if (substrate_given && (substrate_given < 0 || !sweep)) {
+        fprintf(stderr, "gfmd_bench: --substrate H,LS,R,SEED (with --sweep only) takes 0 < H <= 1, lambda_s = LS >= 2 "
+                        "(in a), lambda_r = n a/R with R >= 1, an integer seed >= 0\n");
+        return 2;
     }
     if (contention) return contention_table(sizes, nsizes);
     if (random_bodies > 0) {

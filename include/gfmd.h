@@ -238,9 +238,10 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * (not flat: a load continuing from the last equilibrium) on a sheet thinner than the grid
  * resolves, q_max w < 6 with q_max = pi sqrt(2)/a, takes GFMD_SOLVER_FIRE_MASS at Persson's
  * A/A0 < 0.15/(q_max w), GFMD_SOLVER_MASS_FIRE below twice that or 0.15, whichever is lower, and
- * GFMD_SOLVER_FIRE above -- from nx ny >= 2048^2 on, and below that where the sheet is thinner
- * still, q_max w < 4.5, and its longest wave very soft, f(q_min w) >= 1e6, on a grid of at least
- * 128^2 points -- and from nx ny >= 2048^2 on such
+ * GFMD_SOLVER_FIRE above -- from nx ny >= 2048^2 on, and below that where the sheet is also thin
+ * against the substrate's shortest wave, 2 sqrt(2) q_s w < 4.5 (q_s as below: = q_max w where
+ * lambda_s = 4a), and its longest wave very soft, f(q_min w) >= 1e6, on a grid of at least 128^2
+ * points -- and from nx ny >= 2048^2 on such
  * a load on a thicker layer takes GFMD_SOLVER_FIRE at a load where Persson's A/A0 >= 0.04 (CG
  * below), unless the layer is of middle width, f(q_min w) >= 1e4 (then CG); with adhesion (under
  * pressure control) GFMD_SOLVER_CG on a half-space, a bonded layer and a layer on a fluid

@@ -372,19 +372,23 @@ constexpr double kAutoContinueFirePoints = 2048.0 * 2048.0;
 // (q_max w = 4.4, w = a) and 1.29x on W = 0.177 (3.1).  So a continuing load at >= 2048^2 stays CG's on a layer whose longest
 // wave is plate-like, f(q_min w) >= 1e4, and which is not thinner than the grid resolves,
 // q_max w >= 6 (q_max = pi sqrt(2)/a, the grid's corner): both bounds between the rows above.
-// Below 2048^2 the same choice on the thin sheets whose longest wave is very soft, f(q_min w) >=
-// 1e6, and that are well below the thin bound, q_max w < 4.5, on grids of at least 128^2 points,
+// Below 2048^2 the same choice on the thin sheets (q_max w < 6) whose longest wave is very soft,
+// f(q_min w) >= 1e6, and that are thin against the substrate's shortest wave, 2 sqrt(2) q_s w < 4.5
+// (roughness_thickness(); = q_max w where lambda_s = 4a), on grids of at least 128^2 points,
 // where the CG had stayed.  Measured 2026-11-28 (gfmd_bench --sweep --columns cg,auto --verbose:
 // the study's nine continuing loads, one thread, two runs side by side; log
 // docs/performance_logs/thin_continuing_2026-11-28.log; docs/performance.md "The thin sheets'
-// continuing loads below 2048^2"): the rule's choices took 0.35-0.68x the CG's seconds at 1024^2
-// (W = 0.044 ... 0.25: f = 2.6e7 ... 4.8e9, q_max w = 0.78 ... 4.4), 0.46-0.89x at 512^2 (W =
-// 0.044 ... 0.25), 0.57-0.84x at 256^2 (W = 0.044 ... 0.177, f >= 1.1e6) and 0.75x, 0.81x at 128^2
-// (W = 0.044, 0.0625: f = 9.3e6, 3.3e6).  The CG stays on the rest, where it won or tied: at the
-// thin bound's edge 512^2, W = 0.3, 0.33 (q_max w = 5.3, 5.9; f = 1.9e6, 1.4e6: the rule's 1.05x,
-// 1.16x the CG's seconds, 0.98x, 0.97x in a noisier run), below f = 1e6 256^2, W = 0.25 (4.1e5: 1.02-1.05x), W = 0.3, 0.33 (2.4e5,
+// continuing loads below 2048^2"), on the study's substrate (lambda_s = 4a): the rule's choices
+// took 0.35-0.68x the CG's seconds at 1024^2 (W = 0.044 ... 0.25: f = 2.6e7 ... 4.8e9, q_max w =
+// 0.78 ... 4.4), 0.46-0.89x at 512^2 (W = 0.044 ... 0.25), 0.57-0.84x at 256^2 (W = 0.044 ... 0.177,
+// f >= 1.1e6) and 0.75x, 0.81x at 128^2 (W = 0.044, 0.0625: f = 9.3e6, 3.3e6); on others at 512^2
+// (--substrate): lambda_s = 8a (H = 0.5) w = 0.25 a and a 0.38x, 0.70x, lambda_s = 2a (H = 0.5)
+// w = 0.25 a and 0.5 a 0.78x, 0.96x.  The CG stays on the rest, where it won or tied: at the bound
+// 4.5's other side 512^2, W = 0.3, 0.33 (5.3, 5.9; f = 1.9e6, 1.4e6: the rule's 1.05x, 1.16x the
+// CG's seconds, 0.98x, 0.97x in a noisier run) and lambda_s = 2a, w = a (8.9, q_max w = 4.4: 1.27x
+// in a scratch run); below f = 1e6 256^2, W = 0.25 (4.1e5: 1.02-1.05x), W = 0.3, 0.33 (2.4e5,
 // 1.8e5: 1.3-1.6x), 128^2, W = 0.125, 0.177 (4.1e5, 1.4e5: 0.91x, 0.96x, ties) and W = 0.25 (5.1e4:
-// 1.43x), and on the smallest grid, 64^2, W = 0.044 (f = 1.2e6: 2.2x, 0.11 s against 0.05 s).  From
+// 1.43x); and on the smallest grid, 64^2, W = 0.044 (f = 1.2e6: 2.2x, 0.11 s against 0.05 s).  From
 // 2048^2 on every thin sheet (q_max w < 6) keeps the choice above, measured there.
 constexpr double kAutoContinueThinSoftness = 1e6;
 constexpr double kAutoContinueThinThickness = 4.5;
@@ -549,8 +553,8 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
             const double thickness = shortest_wave_q(grid_) * params_.width;
             const bool thin = thickness < kAutoContinueCgThickness;
             const double f = longest_wave_softness(grid_, body_, params_.e_star);
-            const bool thin_soft = thickness < kAutoContinueThinThickness && f >= kAutoContinueThinSoftness &&
-                                   points >= kAutoContinueThinPoints;
+            const bool thin_soft = thin && points >= kAutoContinueThinPoints && f >= kAutoContinueThinSoftness &&
+                                   roughness_thickness() < kAutoContinueThinThickness;
             if (!(points >= kAutoContinueFirePoints || thin_soft) || surface_flat()) return GFMD_SOLVER_CG;
             const bool soft = f >= kAutoContinueCgSoftness;
             if (soft && !thin) return GFMD_SOLVER_CG;  // the middle widths
@@ -593,9 +597,13 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
 // 2048^2 on the study's substrate alone, keep q_max w.
 constexpr double kRuleWaveRatio = 2.0 * 1.4142135623730951;
 
-double Simulation::adhesive_thickness() const {
+double Simulation::roughness_thickness() const {
     if (!substrate_q_) substrate_q_ = substrate_shortest_wave(grid_, fields_);
-    return std::min(shortest_wave_q(grid_), kRuleWaveRatio * *substrate_q_) * params_.width;
+    return kRuleWaveRatio * *substrate_q_ * params_.width;
+}
+
+double Simulation::adhesive_thickness() const {
+    return std::min(shortest_wave_q(grid_) * params_.width, roughness_thickness());
 }
 
 double Simulation::overlap_fraction() const {

@@ -106,7 +106,8 @@ private:
     int32_t resolve_solver(int32_t requested) const;
     bool surface_flat() const;  // z the same everywhere (a reset or new substrate; no load carried yet)
     double overlap_fraction() const;  // the points whose substrate lies above the prescribed mean position
-    double adhesive_thickness() const;  // the layer's width against the substrate's shortest wave (simulation.cpp)
+    double roughness_thickness() const;  // 2 sqrt(2) q_s w: the width against the substrate's shortest wave
+    double adhesive_thickness() const;   // min(q_max w, roughness_thickness()) (simulation.cpp)
     // under GFMD_SOLVER_AUTO: the solver for the current problem; returns the one it replaced
     // (null if kept), for a caller that must restore it
     std::unique_ptr<Solver> follow_auto_choice();
