@@ -608,21 +608,24 @@ static void automatic_choice_when_continuing(void **state) {
         /* A multilevel start: this grid starts from the coarse surface interpolated to it, a
          * deformed surface, and the default chooses for that start as for a load that continues.
          * A thin soft sheet (w = 0.2 a: f(q_min w) = 6.3e6 at 128^2) at Persson's A/A0 = 0.16
-         * (below its mass-weighted bound 0.169): mass-weighted FIRE on this grid at every size
-         * here (its flat start's CG before 2026-11-28 below 2048^2). */
+         * (below its mass-weighted bound 0.169): mass-weighted FIRE on this grid below 2048^2 too
+         * (its flat start's CG before 2026-11-28; at 2048^2 unchanged, and its mass-weighted
+         * steps' frequency estimate costs seconds there: not repeated). */
         int64_t steps = 0, coarse = 0;
         double thin_load = 0.0;
-        TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 0.2));
-        TS_OK(s, gfmd_persson_load(s, 0.16, &thin_load));
-        TS_OK(s, gfmd_set_pressure(s, thin_load));
-        TS_OK(s, gfmd_reset(s));
-        TS_OK(s, gfmd_get_solver(s, &solver));
-        assert_int_equal(solver, GFMD_SOLVER_CG); /* flat */
-        assert_int_equal(gfmd_relax_multilevel(s, 0.0, 3, 2, &steps, &coarse), GFMD_ERR_NOT_CONVERGED);
-        assert_int_equal(steps, 3);
-        TS_OK(s, gfmd_get_solver(s, &solver));
-        assert_int_equal(solver, GFMD_SOLVER_FIRE_MASS);
-        TS_OK(s, gfmd_reset(s));
+        if (n < 2048) {
+            TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 0.2));
+            TS_OK(s, gfmd_persson_load(s, 0.16, &thin_load));
+            TS_OK(s, gfmd_set_pressure(s, thin_load));
+            TS_OK(s, gfmd_reset(s));
+            TS_OK(s, gfmd_get_solver(s, &solver));
+            assert_int_equal(solver, GFMD_SOLVER_CG); /* flat */
+            assert_int_equal(gfmd_relax_multilevel(s, 0.0, 3, 2, &steps, &coarse), GFMD_ERR_NOT_CONVERGED);
+            assert_int_equal(steps, 3);
+            TS_OK(s, gfmd_get_solver(s, &solver));
+            assert_int_equal(solver, GFMD_SOLVER_FIRE_MASS);
+            TS_OK(s, gfmd_reset(s));
+        }
         /* A thick layer at a pressure well below full contact (pi E* 0.5/wavelength >= 0.003;
          * Persson's A/A0 above 0.04: FIRE at 2048^2; below 0.04 a continuing load there takes CG,
          * as a flat start does): the thin one above is in full contact, which every solver
