@@ -284,13 +284,13 @@ static gfmd_run timed_relax(gfmd_sim *s, int32_t solver, double sigma0, double a
     return timed_relax_to(s, solver, sigma0, area_conv, GFMD_DEFAULT_TOL, 10000000);
 }
 
-/* A body of the benchmark's problem on an n x n grid: half-space (W = 0) or a layer on a fluid
- * foundation, w = 4 W a; FFTW_MEASURE plans, one thread. */
 /* The substrate of bench_body: H, lambda_s (in a), lambda_r = n a / ratio, seed (--substrate, with
  * --sweep only; the study's by default) */
 static double substrate_hurst = 0.8, substrate_lambda_s = 4.0, substrate_ratio = 8.0;
 static uint64_t substrate_seed = 2016;
 
+/* A body of the benchmark's problem on an n x n grid: half-space (W = 0) or a layer on a fluid
+ * foundation, w = 4 W a; FFTW_MEASURE plans, one thread. */
 static gfmd_sim *bench_body(int n, double W, double sigma0, int32_t solver) {
     gfmd_sim *s = NULL;
     int32_t st;
