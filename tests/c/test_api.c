@@ -693,13 +693,6 @@ static void automatic_choice_when_continuing(void **state) {
     }
 }
 
-/* Below 2048^2 a thin soft sheet's continuing load takes the thin sheets' choice only where the
- * sheet is thin against the substrate's shortest wave, 2 sqrt(2) q_s w < 4.5 (q_s = 2 pi/lambda_s
- * on these substrates): on lambda_s = 2a w = 0.5 a (4.44) takes mass-weighted FIRE at Persson's
- * A/A0 = 0.01, w = 0.6 a (5.33) the CG; on lambda_s = 8a w = 1.2 a (2.67; q_max w = 5.33) takes
- * mass-weighted FIRE (its bound 0.15/(q_max w) = 0.028), which the grid's q_max alone would have
- * left to the CG (measured on lambda_s = 2a: a sheet w = a, q_max w = 4.4, took 1.27x the CG's
- * seconds with the thin choice; docs/performance.md).  f(q_min w) >= 1e6 in all (512^2). */
 /* The solver a thin sheet w on an n^2 self-affine substrate (H = 0.8, lambda_r = 64 a, the given
  * lambda_s, seed 5) takes for a load that continues from a deformed surface (2 steps at Persson's
  * A/A0 = 0.004, then the load of 0.01), after the CG of its flat start. */
@@ -724,6 +717,13 @@ static int32_t thin_continuing_choice(int64_t n, double lambda_s, double width) 
     return solver;
 }
 
+/* Below 2048^2 a thin soft sheet's continuing load takes the thin sheets' choice only where the
+ * sheet is thin against the substrate's shortest wave, 2 sqrt(2) q_s w < 4.5 (q_s = 2 pi/lambda_s
+ * on these substrates): on lambda_s = 2a w = 0.5 a (4.44) takes mass-weighted FIRE at Persson's
+ * A/A0 = 0.01, w = 0.6 a (5.33) the CG; on lambda_s = 8a w = 1.2 a (2.67; q_max w = 5.33) takes
+ * mass-weighted FIRE (its bound 0.15/(q_max w) = 0.028), which the grid's q_max alone would have
+ * left to the CG (measured on lambda_s = 2a: a sheet w = a, q_max w = 4.4, took 1.27x the CG's
+ * seconds with the thin choice; docs/performance.md).  f(q_min w) >= 1e6 in all (512^2). */
 static void automatic_choice_thin_by_roughness(void **state) {
     (void)state;
     if (ts_valgrind()) skip();
