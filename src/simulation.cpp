@@ -379,8 +379,8 @@ constexpr double kAutoContinueFirePoints = 2048.0 * 2048.0;
 // the study's nine continuing loads, one thread, two runs side by side; log
 // docs/performance_logs/thin_continuing_2026-11-28.log; docs/performance.md "The thin sheets'
 // continuing loads below 2048^2"), on the study's substrate (lambda_s = 4a): the rule's choices
-// took 0.35-0.68x the CG's seconds at 1024^2 (W = 0.044 ... 0.25: f = 2.6e7 ... 4.8e9, q_max w =
-// 0.78 ... 4.4), 0.46-0.89x at 512^2 (W = 0.044 ... 0.25), 0.57-0.84x at 256^2 (W = 0.044 ... 0.177,
+// took 0.32-0.70x the CG's seconds at 1024^2 (W = 0.044 ... 0.25: f = 2.6e7 ... 4.8e9, q_max w =
+// 0.78 ... 4.4; log thin_continuing_1024_2026-11-28_committed.log), 0.46-0.89x at 512^2 (W = 0.044 ... 0.25), 0.57-0.84x at 256^2 (W = 0.044 ... 0.177,
 // f >= 1.1e6) and 0.75x, 0.81x at 128^2 (W = 0.044, 0.0625: f = 9.3e6, 3.3e6); on others at 512^2
 // (--substrate): lambda_s = 8a (H = 0.5) w = 0.25 a and a 0.38x, 0.70x, lambda_s = 2a (H = 0.5)
 // w = 0.25 a and 0.5 a 0.78x, 0.96x.  The CG stays on the rest, where it won or tied: at the bound
