@@ -1097,8 +1097,8 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--levels") && i + 1 < argc) levels = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--columns") && i + 1 < argc) columns = parse_names(argv[++i], sweep_names, SWEEP_SOLVERS);
         else if (!strcmp(argv[i], "--substrate") && i + 1 < argc) {
-            double v[4] = {0};
-            const int k = parse_list(argv[++i], v, 4);
+            double v[5] = {0}; /* room for a fifth number, which is refused */
+            const int k = parse_list(argv[++i], v, 5);
             substrate_given = 1;
             if (k != 4 || !(v[0] > 0.0 && v[0] <= 1.0) || !(v[1] >= 2.0) || !(v[2] >= 1.0) || !(v[3] >= 0.0 && v[3] < 1e15) ||
                 v[3] != floor(v[3]))
