@@ -134,10 +134,11 @@ def stiffness(c):
 
 
 def test_green_factor_here_is_the_library_s():
-    """The f(t) above against the library's on both sides of its branches (the library's is
-    checked against its limits in test_green): 1e-13 relative, the branches' series truncated far
-    below that and the direct forms losing at most two digits to cancellation near x = 1."""
-    t = np.concatenate([np.geomspace(1e-6, 1e3, 200), [0.49, 0.5, 0.51, 9.9, 10.0, 10.1]])
+    """The f(t) above against the library's (which test_green checks against its limits), on both
+    sides of the branches of each (here x = 2t = 1 and 20, the library's x = 2): within 1e-13
+    relative, the series truncated far below that and the direct forms losing at most two digits
+    to cancellation near x = 1."""
+    t = np.concatenate([np.geomspace(1e-6, 1e3, 200), [0.49, 0.5, 0.51, 0.99, 1.0, 1.01, 9.9, 10.0, 10.1]])
     for kind in (gfmd.LAYER_FLUID, gfmd.LAYER_BONDED):
         for nu in (0.0, 0.3, 0.49, 0.5):
             ours = green_factor(kind, t, nu)
