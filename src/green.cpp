@@ -16,6 +16,8 @@ namespace {
 // The closed forms below are written with x = 2t.  For x < 2 they cancel (fluid denominator,
 // bonded numerator at nu -> 1/2), so they are summed as power series with the leading powers
 // factored out; for x >= 2 they are divided by e^x/2 so that nothing overflows up to t = 1e308.
+// Once e^-x underflows to 0 (x > 745) they are 1 exactly, and are set so: x^2 e^-x would be
+// inf * 0 from x = 1.3e154 on (and 2t is inf beyond DBL_MAX/2).
 constexpr double kSeriesLimit = 2.0;
 
 // (sinh x - x)/x^3 = sum_{k>=1} x^(2k-2)/(2k+1)!  ->  returns sum_{k>=1} x^(2k)/(2k+1)!
@@ -46,10 +48,12 @@ void fluid_parts(double t, double &num, double &den) {
         const double x2 = x * x;
         num = 2.0 + sinh_tail(x2);               // (sinh x + x)/x
         den = x * x * x * cosh_tail_over_x4(x2);  // (cosh x - 1 - x^2/2)/x
-    } else {
-        const double e = std::exp(-x);
+    } else if (const double e = std::exp(-x); e > 0.0) {
         num = 1.0 - e * e + 2.0 * x * e;          // (sinh x + x) 2 e^-x
         den = 1.0 + e * e - (2.0 + x * x) * e;    // (cosh x - 1 - x^2/2) 2 e^-x
+    } else {
+        num = 1.0;
+        den = 1.0;
     }
 }
 
@@ -62,10 +66,12 @@ void bonded_parts(double t, double nu, double &num, double &den) {
     if (x < kSeriesLimit) {
         num = x * (kappa_m1 + kappa * sinh_tail(x * x));
         den = kappa * std::cosh(x) + 0.5 * x * x + 0.5 * (1.0 + kappa * kappa);
-    } else {
-        const double e = std::exp(-x);
+    } else if (const double e = std::exp(-x); e > 0.0) {
         num = kappa * (1.0 - e * e) - 2.0 * x * e;
         den = kappa * (1.0 + e * e) + (x * x + 1.0 + kappa * kappa) * e;
+    } else {
+        num = kappa;
+        den = kappa;
     }
 }
 

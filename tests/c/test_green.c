@@ -7,6 +7,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 #include <cmocka.h>
 
@@ -93,9 +94,49 @@ static void large_t_limit(void **state) {
     }
     assert_true(fluid(1e8) == 1.0);
     assert_true(bonded(1e8, 0.3) == 1.0);
+    /* out to the largest double: e^-2t underflows to 0 from t = 373 on, where f is 1 exactly;
+     * (2t)^2 e^-2t was inf * 0 = NaN from t = 6.7e153 on (and 2t inf beyond DBL_MAX / 2) */
+    const double huge[] = {400.0, 1e153, 6.7e153, 1e154, 1e200, 1e300, DBL_MAX / 2.0, DBL_MAX};
+    for (size_t i = 0; i < sizeof huge / sizeof huge[0]; ++i) {
+        assert_true(fluid(huge[i]) == 1.0);
+        assert_true(bonded(huge[i], 0.3) == 1.0);
+        assert_true(bonded(huge[i], 0.5) == 1.0);
+        assert_true(bonded(huge[i], -0.9) == 1.0);
+    }
     double f = 0.0;
     assert_int_equal(gfmd_green_factor(GFMD_GREEN_HALFSPACE, 3.0, 0.0, &f), GFMD_OK);
     assert_true(f == 1.0);
+}
+
+/* A layer far thicker than the cell is the half-space: its stiffness is the half-space's on every
+ * mode (f = 1 to the last bit), so the same solver's relaxation gives the same bits.  The
+ * widths 1e200 and 1e300 failed with GFMD_ERR_RANGE before f was set to 1 there. */
+static void thick_layer_is_the_half_space(void **state) {
+    (void)state;
+    double ref[3] = {0.0, 0.0, 0.0};
+    const double widths[] = {0.0, 1e6, 1e200, 1e300, DBL_MAX};
+    for (size_t i = 0; i < sizeof widths / sizeof widths[0]; ++i) {
+        for (int32_t kind = GFMD_GREEN_LAYER_FLUID; kind <= GFMD_GREEN_LAYER_BONDED; ++kind) {
+            gfmd_sim *s = NULL;
+            assert_int_equal(gfmd_sim_create_ex(32, 24, 32.0, 24.0, 1, GFMD_PLANNER_ESTIMATE, &s), GFMD_OK);
+            assert_int_equal(gfmd_generate_selfaffine(s, 0.8, 12.0, 3.0, 1.0, 5, GFMD_DIST_UNIFORM), GFMD_OK);
+            if (kind == GFMD_GREEN_LAYER_BONDED) assert_int_equal(gfmd_set_poisson(s, 0.3), GFMD_OK);
+            if (widths[i] > 0.0) assert_int_equal(gfmd_set_green(s, kind, widths[i]), GFMD_OK);
+            assert_int_equal(gfmd_set_pressure(s, 0.05), GFMD_OK);
+            /* one solver for all: the default's choice reads the kind of body */
+            assert_int_equal(gfmd_set_solver(s, GFMD_SOLVER_FIRE), GFMD_OK);
+            int64_t steps = 0;
+            assert_int_equal(gfmd_relax(s, 0.0, 100000, &steps), GFMD_OK);
+            double out[3] = {(double)steps, 0.0, 0.0};
+            assert_int_equal(gfmd_get_contact_area(s, &out[1]), GFMD_OK);
+            assert_int_equal(gfmd_get_mean_gap(s, &out[2]), GFMD_OK);
+            if (i == 0) memcpy(ref, out, sizeof ref);
+            /* 1e6: f - 1 ~ (2qw)^2 e^-2qw, far below an ulp on this grid (q >= 2 pi / 32) */
+            assert_memory_equal(out, ref, sizeof out);
+            gfmd_sim_destroy(&s);
+            if (widths[i] == 0.0) break; /* the half-space once */
+        }
+    }
 }
 
 static void finite_and_monotone_everywhere(void **state) {
@@ -134,7 +175,7 @@ static void bad_arguments(void **state) {
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(reference_values),      cmocka_unit_test(closed_form_overlap),
-        cmocka_unit_test(thin_plate_limit),      cmocka_unit_test(large_t_limit),
+        cmocka_unit_test(thin_plate_limit),      cmocka_unit_test(large_t_limit), cmocka_unit_test(thick_layer_is_the_half_space),
         cmocka_unit_test(finite_and_monotone_everywhere), cmocka_unit_test(bad_arguments),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
