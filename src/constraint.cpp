@@ -27,7 +27,10 @@ void project_mean(const FftGrid &grid, Fields &fields, double d) {
     // by 1e-14 off it -- no contact, a mean pressure of zero, every contact force suddenly
     // unbalanced -- which trapped CG on a 128^2 sheet between that state and the right one.
     if (c > 0.0 && c <= 4.0 * 2.220446049250313e-16 * std::sqrt(n) * (m[1] / n)) return;
-    const double tol = 4.0 * 2.220446049250313e-16 * (std::fabs(d) + std::fabs(c) + 1.0);
+    // The root to a few roundings of the lengths involved: d, the shift and the heights' mean size
+    // (a length of the problem's own: an absolute 1 held the mean to 1e-9 of itself where lengths
+    // are 1e-7, SI units on a micrometre cell, and made the trajectory depend on the units).
+    const double tol = 4.0 * 2.220446049250313e-16 * (std::fabs(d) + std::fabs(c) + m[1] / n);
     for (int it = 0; it < 100; ++it) {
         const auto s = grid.sum_points<2>([&](int64_t i0, int64_t i1, double *acc) {
             double sum = 0.0, nfree = 0.0;

@@ -6,6 +6,22 @@
 
 namespace gfmd {
 
+// The approach's velocity is per unit of the masked dynamics' own time, which has no units; FIRE's
+// is per unit of the body's time (its step a fraction of 1/omega_max).  Carried over as it was, the
+// velocity FIRE started from depended on the units of lengths and stresses (a relaxation in SI
+// units and the same one in units of a and E* parted after the approach).  It is converted so that
+// FIRE's first step moves the body as far as the approach's last one did: times the approach's
+// last step over FIRE's first (FIRE restarts with kFireDtStart, Fire::restart).
+void MassThenFire::carry_over(StepContext &c) const {
+    const double fire_dt = kFireDtStart * c.dynamics.dt / kDtFactor;
+    const double scale = mass_.last_step() / fire_dt;
+    double *v = c.fields.v.data();
+    c.grid.for_points([&](int64_t i0, int64_t i1) {
+#pragma omp simd
+        for (int64_t i = i0; i < i1; ++i) v[i] *= scale;
+    });
+}
+
 std::vector<double> MassThenFire::state() const {
     std::vector<double> s{static_cast<double>(taken_)};
     const std::vector<double> m = mass_.state(), f = fire_.state();

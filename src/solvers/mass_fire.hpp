@@ -24,13 +24,13 @@ public:
     explicit MassThenFire(const FftGrid &grid) : mass_(grid, kApproachEstimates) {}
     void restart(const Dynamics &d) override {
         mass_.restart(d);
-        fire_.restart(d);  // FIRE starts restarted where the approach ends; v carries over
+        fire_.restart(d);  // FIRE starts restarted where the approach ends; the motion carries over
         taken_ = 0;
     }
     void advance(StepContext &c) override {
         if (taken_ < kApproachSteps) {
             mass_.advance(c);
-            ++taken_;
+            if (++taken_ == kApproachSteps) carry_over(c);
         } else {
             fire_.advance(c);
         }
@@ -41,6 +41,7 @@ public:
     void set_state(const std::vector<double> &s) override;
 
 private:
+    void carry_over(StepContext &c) const;
     FireMass mass_;
     Fire fire_;
     int64_t taken_ = 0;
