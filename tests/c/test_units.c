@@ -10,10 +10,10 @@
  * GFMD_SOLVER_MASS_FIRE handed FIRE its velocity in the masked dynamics' units (the half-space
  * below took 261 steps in units of a and E*, 270 in these), and the projection of displacement
  * control stopped its root search at an absolute 1e-15 (1e-9 of the lengths in these units; the
- * CG's gap then differed in the last bit).  In units that are not
- * powers of two (E* = 2e11, a = 0.15625 um) the roundings differ, and the runs agree to the
- * tolerance: each to a residual of 1e-10, the results within 1e-9 of each other (measured within
- * 6e-12) and A/A0 within two points of the grid. */
+ * CG's gap then differed in the last bit).  In units that are not powers of two (E* = 2e11,
+ * a = 0.15625 um) the roundings differ, and the runs agree to the tolerance: each to a residual
+ * of 1e-10, the results within 1e-9 of each other (measured within 6e-12) and A/A0 within two
+ * points of the grid. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
