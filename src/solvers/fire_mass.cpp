@@ -37,7 +37,7 @@ void apply_masked(const FftGrid &grid, double *x, std::complex<double> *work, co
 FireMass::FireMass(const FireMass &o)
     : Solver(o), control_(o.control_), held_(o.held_.size()), mean_response_(o.mean_response_.size()),
       response_held_(o.response_held_.size()), floor_(o.floor_), mass_dt_(o.mass_dt_),
-      inv_m_(o.inv_m_), last_dt_(o.last_dt_), bucket_(o.bucket_), estimate_(o.estimate_), lambda_(o.lambda_) {}
+      inv_m_(o.inv_m_), bucket_(o.bucket_), estimate_(o.estimate_), lambda_(o.lambda_) {}
 
 std::vector<double> FireMass::state() const {
     std::vector<double> s = control_.state();
@@ -256,8 +256,7 @@ void FireMass::advance(StepContext &c) {
         mark();
     }
     mass_dt_ = kDtFactor / std::sqrt(lambda + c.params.adhesive_stiffness() * inv_m_);
-    const double dt = std::min(control_.dt, kMassDtMax) * mass_dt_;
-    last_dt_ = dt;
+    const double dt = step();
     grid.forward(a, c.fields.work.data());
     const int64_t nxh = grid.nxh();
     const double inv_n = 1.0 / static_cast<double>(grid.real_size()), floor = floor_;

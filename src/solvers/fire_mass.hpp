@@ -3,6 +3,7 @@
 #ifndef GFMD_SRC_SOLVERS_FIRE_MASS_HPP
 #define GFMD_SRC_SOLVERS_FIRE_MASS_HPP
 
+#include <algorithm>
 #include <array>
 
 #include "fire_control.hpp"
@@ -35,8 +36,10 @@ public:
     // 0.1.0 before the estimate) leaves the estimates to be made again.
     std::vector<double> state() const override;
     void set_state(const std::vector<double> &s) override;
-    // The time step of the last advance(), in the masked dynamics' own (dimensionless) time.
-    double last_step() const { return last_dt_; }
+    // The time step advance() takes, in the masked dynamics' own (dimensionless) time: from the
+    // control and the masses the step set, so after a step the one it took (neither changes until
+    // the next).
+    double step() const { return std::min(control_.dt, kMassDtMax) * mass_dt_; }
     // contact counts below 2^48 (a grid of 2^48 points needs petabytes); within the checkpoint
     // format's 64 numbers of solver state also after GFMD_SOLVER_MASS_FIRE's 4 of its own
     static constexpr std::size_t kBuckets = 48;
@@ -56,7 +59,7 @@ private:
     bool response_valid_ = false;
     // Masses m(q) = max(k(q), floor_), chosen for the contact-count bucket bucket_
     // (floor(log2(contacts)), -1 = not chosen yet); the time step they allow.
-    double floor_ = 0.0, mass_dt_ = 0.0, inv_m_ = 0.0, last_dt_ = 0.0;
+    double floor_ = 0.0, mass_dt_ = 0.0, inv_m_ = 0.0;
     int bucket_ = -1;
     bool estimate_ = true;
     std::array<double, kBuckets> lambda_{};  // per bucket: lambda_max of P M^-1 P K P (0: not yet)

@@ -14,7 +14,7 @@ namespace gfmd {
 // last step over FIRE's first (FIRE restarts with kFireDtStart, Fire::restart).
 void MassThenFire::carry_over(StepContext &c) const {
     const double fire_dt = kFireDtStart * c.dynamics.dt / kDtFactor;
-    const double scale = mass_.last_step() / fire_dt;
+    const double scale = mass_.step() / fire_dt;
     double *v = c.fields.v.data();
     c.grid.for_points([&](int64_t i0, int64_t i1) {
 #pragma omp simd
