@@ -292,8 +292,9 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * (test_cg_reference)
  * (docs/performance.md), GFMD_SOLVER_MASS_FIRE (after every restart of the solver -- a new load,
  * adhesion, body, gfmd_restart_solver() ... -- at most 100 steps of GFMD_SOLVER_FIRE_MASS, then
- * GFMD_SOLVER_FIRE from where they got, the motion kept (the velocities converted so that FIRE's
- * first step moves each point as far as the approach's last did): mass weighting nears a soft body's
+ * GFMD_SOLVER_FIRE from where they got, the motion kept (the velocities times the approach's last
+ * step over FIRE's first, so that they carry each point as far per step as in the approach's last;
+ * the result does not depend on the units: docs/guarantees.md): mass weighting nears a soft body's
  * equilibrium fast and then converges slowly, FIRE finishes fast; the approach steps at the time
  * step of the unmasked modes, longer than GFMD_SOLVER_FIRE_MASS's (measured faster for 100 steps);
  * the count of approach steps is part of the solver's state, so chunks and checkpoints follow one

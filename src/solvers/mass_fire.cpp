@@ -10,8 +10,9 @@ namespace gfmd {
 // is per unit of the body's time (its step a fraction of 1/omega_max).  Carried over as it was, the
 // velocity FIRE started from depended on the units of lengths and stresses (a relaxation in SI
 // units and the same one in units of a and E* parted after the approach).  It is converted so that
-// FIRE's first step moves the body as far as the approach's last one did: times the approach's
-// last step over FIRE's first (FIRE restarts with kFireDtStart, Fire::restart).
+// it carries each point as far per step as in the approach's last (v dt the same; FIRE's first
+// step then adds its own force and mixing): times the approach's last step over FIRE's first
+// (FIRE restarts with kFireDtStart, Fire::restart).
 void MassThenFire::carry_over(StepContext &c) const {
     const double fire_dt = kFireDtStart * c.dynamics.dt / kDtFactor;
     const double scale = mass_.step() / fire_dt;
