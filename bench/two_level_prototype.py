@@ -1,0 +1,417 @@
+#!/usr/bin/env python3
+"""A measurement, not a solver of the library: does a coarse space at the contacts' spacing cut the
+preconditioned CG's iterations on a thin sheet held by its contacts?
+
+The library's preconditioned surface CG (src/solvers/cg.cpp) and its mass-weighted FIRE
+(src/solvers/fire_mass.cpp) precondition with the masked inverse P M^-1 P, M = max(k(q), k_c):
+the principal block of M^-1 on the free points, not the inverse of the stiffness's block on them.
+What it misses are the long waves between the points the wall holds.  This program adds to it a
+coarse correction on bilinear hats of a grid coarsened c times, masked to the free points, in the
+balancing form
+
+    B r = Q r + (I - Q K) P M^-1 P (I - K Q) r,   Q = Z (Z^T K Z)^-1 Z^T,
+
+with Z^T K Z read off K by probing (one FFT pair for every S-th hat in each direction at once, S^2
+pairs) and its system solved exactly or by a few Jacobi-preconditioned CG iterations, and counts:
+
+  --fixed   the held set of the library's equilibrium at sigma0 fixed: CG iterations to 1e-8 of
+            the right-hand side (a uniform load on the free points and a random one) with P M^-1 P
+            and with B (flexible CG when the coarse solve is inexact);
+  --newton  a continuing load sigma0 -> sigma1 from the library's equilibrium at sigma0 by an
+            active-set Newton method (the held set fixed per Newton step, its linear problem
+            solved by CG to a tenth of its residual, a backtracking step clipped at the wall),
+            FFT pairs counted, against the library's own steps on the same load;
+  --fire    the same load by FIRE on the preconditioned force (a = P M^-1 P F, or a = B F with the
+            coarse operator rebuilt when the held set changes), also with adhesion.
+
+What it found (2026-11-28): the coarse space cuts the iterations and steps several-fold, but only
+with a coarse operator exact for the current held set, and probing it costs S^2 FFT pairs at every
+change of that set; the two cheaper forms here, --assembly R (K's real-space kernel cut at R) and
+--rebuild F (the operator kept until the held count moved by F), fail (CG does not converge; FIRE
+diverges).
+
+Both to a tighter tolerance (1e-8 E* g) than the library's default, so that the equilibria can be
+compared (max |z - z_library| printed).  Needs python3-numpy and python3-scipy (apt) and the built
+library (GFMD_LIBRARY or build/).  docs/performance.md, *What was tried*, quotes its figures.
+
+  python3 bench/two_level_prototype.py --fixed  [--n 256] [--W 0.088] [--sigma0 1e-4] [--c 4]
+  python3 bench/two_level_prototype.py --newton [--n 256] [--W 0.088] [--sigma0 1e-4 --sigma1 1.6e-4]
+"""
+import argparse
+import os
+import sys
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spl
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "python"))
+import gfmd  # noqa: E402
+
+TOL = 1e-8  # of E* g: tighter than the default, so that the methods' equilibria can be compared
+CHECKS = []  # (what, value, bound) of every solution, for --check
+
+
+class Sheet:
+    """The study's substrate (H = 0.8, lambda_s = 4a, lambda_r = n a / 8, g = 1, seed 1) under a
+    layer of width w = 4 W a on a fluid foundation, E* = 1, a = 1, and its stiffness in numpy."""
+
+    def __init__(self, n, W, gamma0=0.0, rho=1.0):
+        self.n, self.w = n, 4.0 * W
+        self.sim = gfmd.Simulation(n, n, float(n), float(n))
+        self.sim.set_modulus(1.0)
+        self.sim.set_green(gfmd.LAYER_FLUID, self.w)
+        self.sim.generate_selfaffine(0.8, n / 8.0, 4.0, 1.0, 1)
+        self.h = self.sim.heights()
+        if gamma0 > 0:
+            self.sim.set_adhesion(gamma0, rho)
+        qy = 2 * np.pi * np.fft.fftfreq(n)
+        qx = 2 * np.pi * np.fft.rfftfreq(n)
+        self.q = np.hypot(*np.meshgrid(qx, qy))
+        f = np.ones_like(self.q)
+        for i, t in np.ndenumerate(self.q * self.w):
+            if t > 0:
+                f[i] = gfmd.green_factor(gfmd.LAYER_FLUID, t)
+        self.k = np.where(self.q > 0, self.q / (2 * f), 0.0)
+        self.pairs = 0
+
+    def relax(self, sigma0):
+        self.sim.set_pressure(sigma0)
+        steps = self.sim.relax(tol=TOL)
+        return steps, self.sim.surface().copy()
+
+    def truncated(self, radius):
+        """K's real-space kernel cut at |dx|, |dy| <= radius, as a sparse matrix (no FFT pair: an
+        assembly a solver could update point by point as the held set changes)."""
+        if getattr(self, "_trunc", (None,))[0] != radius:
+            n = self.n
+            kr = np.fft.irfft2(self.k, s=(n, n))
+            # the cut kernel keeps K's zero sum (k(0) = 0): its centre takes what was cut off,
+            # else the long waves get a stiffness of either sign
+            window = np.zeros((n, n), bool)
+            window[np.ix_(np.r_[0:radius + 1, n - radius:n], np.r_[0:radius + 1, n - radius:n])] = True
+            kr[0, 0] -= kr[window].sum()
+            shift = [sp.csr_matrix(np.roll(np.eye(n), d, axis=1)) for d in range(-radius, radius + 1)]
+            T = sp.csr_matrix((n * n, n * n))
+            for i, dx in enumerate(range(-radius, radius + 1)):
+                for j, dy in enumerate(range(-radius, radius + 1)):
+                    T = T + kr[dx % n, dy % n] * sp.kron(shift[i], shift[j], format="csr")
+            self._trunc = (radius, T.tocsr())
+        return self._trunc[1]
+
+    def K(self, x):
+        self.pairs += 1
+        return np.fft.irfft2(np.fft.rfft2(x) * self.k, s=x.shape)
+
+    def energy(self, u, sigma):  # not counted: a solver gets it from the transforms it does anyway
+        return 0.5 * (u * np.fft.irfft2(np.fft.rfft2(u) * self.k, s=u.shape)).sum() + sigma * u.sum()
+
+    def masked_inverse(self, free):
+        """P M^-1 P with the library's floor k_c (src/solvers/cg.cpp: q_c = min(0.5 q_spacing, 1/w),
+        at dense contacts no lower than 0.5 q_spacing / 5)."""
+        phi = 1.0 - free.mean()
+        qc2 = 0.25 * 4 * np.pi * phi
+        cap2 = 1.0 / self.w ** 2
+        if phi >= 0.05:
+            cap2 = max(cap2, qc2 / 25)
+        kmin = self.k[self.q > 0].min()
+        kc = max(self.k[self.q ** 2 <= min(qc2, cap2)].max(), kmin)
+        m = np.maximum(self.k, kc)
+        m[0, 0] = kc
+
+        def apply(r):
+            self.pairs += 1
+            return free * np.fft.irfft2(np.fft.rfft2(free * r) / m, s=r.shape)
+        return apply
+
+
+def coarse_space(sheet, free, c, S, coarse_its, assembly=0):
+    """Q and the balancing preconditioner B for the held set ~free; S^2 probes counted as pairs."""
+    n = sheet.n
+    nc = n // c
+    t = np.arange(n)
+    hat = np.zeros((nc, n))
+    for j in range(nc):
+        d = (t - j * c + n / 2) % n - n / 2
+        hat[j] = np.maximum(0.0, 1.0 - np.abs(d) / c)
+    hat = sp.csr_matrix(hat)
+    Z = (sp.kron(hat, hat).tocsr() @ sp.diags(free.ravel().astype(float))).tocsr()
+    if assembly > 0:
+        return finish(sheet, free, Z, Z @ sheet.truncated(assembly) @ Z.T, coarse_its, n, nc)
+    R = S // 2
+    rows, cols, vals = [], [], []
+    for cx in range(S):
+        for cy in range(S):
+            idx = (np.arange(cx, nc, S)[:, None] * nc + np.arange(cy, nc, S)[None, :]).ravel()
+            probe = np.asarray(Z[idx].sum(axis=0)).reshape(n, n)
+            seen = Z @ (free * sheet.K(probe)).ravel()
+            for j in idx:
+                j0, j1 = divmod(int(j), nc)
+                for di in range(-R, R + 1):
+                    for dj in range(-R, R + 1):
+                        rows.append(((j0 + di) % nc) * nc + (j1 + dj) % nc)
+                        cols.append(j)
+                        vals.append(seen[rows[-1]])
+    return finish(sheet, free, Z, sp.csr_matrix((vals, (rows, cols)), shape=(nc * nc, nc * nc)),
+                  coarse_its, n, nc)
+
+
+def finish(sheet, free, Z, A, coarse_its, n, nc):
+    A = (0.5 * (A + A.T)).tocsr()
+    d = A.diagonal()
+    A = (A + sp.diags((d <= 0).astype(float))).tocsr()  # a hat with no free point: a unit row
+    dinv = 1.0 / A.diagonal()
+    lu = spl.splu(A.tocsc()) if coarse_its == 0 else None
+
+    def solve(v):
+        if lu is not None:
+            return lu.solve(v)
+        x, r = np.zeros_like(v), v.copy()
+        y = dinv * r
+        p, ry = y.copy(), r @ y
+        for _ in range(coarse_its):
+            Ap = A @ p
+            a = ry / (p @ Ap)
+            x += a * p
+            r -= a * Ap
+            y = dinv * r
+            ry, ry_old = r @ y, ry
+            p = y + (ry / ry_old) * p
+        return x
+
+    def B(r, now=None):
+        # now: the free set of the current step when the coarse operator is older (--rebuild);
+        # Q is then masked to it (symmetric), the fine part follows it
+        f = free if now is None else now
+        masked = sheet.masked_inverse(f)
+
+        def Q(x):
+            return f * (Z.T @ solve(Z @ (f * x).ravel())).reshape(n, n)
+        qr = Q(r)
+        u = masked(r - f * sheet.K(qr))
+        return qr + u - Q(f * sheet.K(u))
+    return B, nc
+
+
+def cg(sheet, free, B, b, rtol, maxit=5000, flexible=False):
+    """(Flexible) preconditioned CG on the free block of K; returns iterations and x."""
+    x, r = np.zeros_like(b), b.copy()
+    y = B(r)
+    p, ry = y.copy(), (r * y).sum()
+    b0 = np.sqrt((b * b).sum())
+    for it in range(1, maxit + 1):
+        Kp = free * sheet.K(p)
+        a = ry / (p * Kp).sum()
+        x += a * p
+        r_old = r.copy() if flexible else None
+        r -= a * Kp
+        if np.sqrt((r * r).sum()) < rtol * b0:
+            return it, x
+        y = B(r)
+        beta = (((r - r_old) * y).sum() if flexible else (r * y).sum()) / ry
+        ry = (r * y).sum()
+        p = y + beta * p
+    return maxit, x
+
+
+def fixed(args):
+    sheet = Sheet(args.n, args.W)
+    steps, z = sheet.relax(args.sigma0)
+    free = (z - sheet.h) > 0
+    print(f"n = {args.n}, W = {args.W}, sigma0 = {args.sigma0:g}: A/A0 = {1 - free.mean():.4f} "
+          f"(library: {steps} steps from flat); CG iterations to 1e-8 of the right-hand side")
+    rhs = {"uniform": free * 1.0, "random": free * np.random.default_rng(3).standard_normal(z.shape)}
+    def run(B, b, flexible=False):
+        its, x = cg(sheet, free, B, b, 1e-8, flexible=flexible)
+        # the residual recomputed from x, not CG's recurrence: 1e-8 and what CG's updates may
+        # have drifted in 5000 iterations at most (a few hundred roundings of 1e-16 per term)
+        CHECKS.append(("residual", np.linalg.norm(free * sheet.K(x) - b) / np.linalg.norm(b), 1e-7))
+        return its
+    line = "  P M^-1 P:" + "".join(f"  {name} {run(sheet.masked_inverse(free), b)}" for name, b in rhs.items())
+    print(line)
+    for c in args.c:
+        for its in args.coarse_its:
+            sheet.pairs = 0
+            B, nc = coarse_space(sheet, free, c, args.probes, its, args.assembly)
+            probes = sheet.pairs
+            solve = "exact" if its == 0 else f"{its} Jacobi-CG its"
+            if args.assembly:
+                solve += f", kernel cut at {args.assembly}"
+            counts = "".join(f"  {name} {run(B, b, its > 0)}" for name, b in rhs.items())
+            print(f"  two-level, c = {c} ({nc}^2 coarse, {probes} probes), coarse solve {solve}:{counts}")
+
+
+def newton(args, sheet, z, sigma1, two_level):
+    """Active-set Newton for the continuing load; returns (steps, CG its, pairs, probes, z)."""
+    h, u = sheet.h, z.copy()
+    sheet.pairs = 0
+    probes = cg_its = steps = 0
+    while True:
+        g = sheet.K(u) + sigma1
+        at_wall = (u - h) <= 0
+        free = ~(at_wall & (g >= 0))
+        if np.abs(np.where(at_wall, np.minimum(g, 0), g)).max() <= TOL or steps >= 200:
+            return steps, cg_its, sheet.pairs, probes, u
+        steps += 1
+        if two_level:
+            before = sheet.pairs
+            B, _ = coarse_space(sheet, free, args.c[0], args.probes, args.coarse_its[0], args.assembly)
+            probes += sheet.pairs - before
+        else:
+            B = sheet.masked_inverse(free)
+        its, d = cg(sheet, free, B, -(free * g), 0.1, maxit=500, flexible=two_level)
+        cg_its += its
+        e0, alpha = sheet.energy(u, sigma1), 1.0
+        while True:
+            trial = np.maximum(h, u + alpha * d)
+            if sheet.energy(trial, sigma1) <= e0 + 1e-4 * (g * (trial - u)).sum() or alpha < 1e-6:
+                break
+            alpha *= 0.5
+        u = trial
+
+
+def fire(args, sheet, z, sigma1, two_level):
+    """Preconditioned FIRE (FIRE 2.0's constants, semi-implicit Euler, a point that reaches the
+    wall stops) on a continuing load, with a = P M^-1 P F or a = B F; the coarse space is rebuilt
+    whenever the held set changes (with --rebuild F only once the held count has moved by more
+    than F).  Returns (steps, pairs, probes, rebuilds, z).  The same dynamics and constants for
+    both preconditioners; this is not the library's mass-weighted FIRE (whose step follows its
+    masses), so compare the two rows with each other, and either with the library only roughly."""
+    h, u = sheet.h, z.copy()
+    v = np.zeros_like(u)
+    sheet.pairs = 0
+    probes = rebuilds = steps = 0
+    dt, dt_max, alpha, since = 0.5, 1.0, 0.25, 0
+    built_on, built_set, B = -1, None, None
+    gamma, rho = args.gamma0, args.rho
+    while steps < args.max_steps:
+        gap = u - h
+        g = sheet.K(u) + sigma1
+        if gamma > 0:
+            g = g + (gamma / rho) * np.exp(-gap / rho)
+        force = -g
+        at_wall = gap <= 0
+        held = at_wall & (force < 0)
+        force[held] = 0.0
+        if np.abs(force).max() <= TOL:
+            break
+        free = ~held
+        count = int(held.sum())
+        changed = (not np.array_equal(held, built_set)) if args.rebuild == 0 else \
+            abs(count - built_on) > args.rebuild * max(built_on, 1)
+        if B is None or changed:
+            built_set = held.copy()
+            if two_level:
+                before = sheet.pairs
+                B, _ = coarse_space(sheet, free, args.c[0], args.probes, args.coarse_its[0], args.assembly)
+                probes += sheet.pairs - before
+            built_on, rebuilds = count, rebuilds + 1
+        if not two_level:
+            B = sheet.masked_inverse(free)  # the floor follows the held set, as the library's
+        a = B(force, free) if two_level else B(force)
+        steps += 1
+        v[held] = 0.0
+        if (force * v).sum() > 0:
+            since += 1
+            if since > 5:
+                dt, alpha = min(1.1 * dt, dt_max), 0.99 * alpha
+        else:
+            since, dt, alpha = 0, 0.5 * dt, 0.25
+            u -= 0.5 * dt * v
+            v[:] = 0.0
+        v += dt * a
+        va, aa = np.sqrt((v * v).sum()), np.sqrt((a * a).sum())
+        if aa > 0:
+            v = (1 - alpha) * v + alpha * (va / aa) * a
+        u = u + dt * v
+        stop = u < h
+        u[stop], v[stop] = h[stop], 0.0
+    return steps, sheet.pairs, probes, rebuilds, u
+
+
+def check_equilibrium(u, z_library, h):
+    """Both methods against the library's equilibrium: the same contact set (the count), and the
+    surface within 1e-3 a (all three are stopped at forces of 1e-8 E* g; the sheets' softest
+    modes turn that into displacements of up to ~1e-4 a in the runs logged)."""
+    CHECKS.append(("contacts", abs(int(np.sum(u - h <= 0)) - int(np.sum(z_library - h <= 0))), 0))
+    CHECKS.append(("surface", np.abs(u - z_library).max(), 1e-3))
+
+
+def assembly_name(args):
+    return f"kernel cut at {args.assembly}" if args.assembly else f"{args.probes}^2 probes"
+
+
+def continuing(args):
+    sheet = Sheet(args.n, args.W, args.gamma0, args.rho)
+    _, z0 = sheet.relax(args.sigma0)
+    steps, z1 = sheet.relax(args.sigma1)
+    solver = sheet.sim.solver
+    if args.fire:
+        print(f"n = {args.n}, W = {args.W}, gamma0 = {args.gamma0:g}, rho = {args.rho:g}, sigma0 "
+              f"{args.sigma0:g} -> {args.sigma1:g}: library {steps} steps (solver {solver}), "
+              f"A/A0 = {np.mean(z1 - sheet.h <= 0):.6f}")
+        for two_level in (False, True):
+            n_steps, pairs, probes, rebuilds, u = fire(args, sheet, z0, args.sigma1, two_level)
+            name = (f"two-level c = {args.c[0]}, {assembly_name(args)}, coarse {args.coarse_its[0]} its"
+                    if two_level else "P M^-1 P")
+            check_equilibrium(u, z1, sheet.h)
+            print(f"  FIRE, {name}: {n_steps} steps, {pairs} FFT pairs ({probes} of them probes, "
+                  f"{rebuilds} held sets), A/A0 = {np.mean(u - sheet.h <= 0):.6f}, "
+                  f"max |z - z_library| = {np.abs(u - z1).max():.1e}", flush=True)
+        return
+    print(f"n = {args.n}, W = {args.W}, sigma0 {args.sigma0:g} -> {args.sigma1:g}: library {steps} steps "
+          f"(solver {solver}), A/A0 = {np.mean(z1 - sheet.h <= 0):.6f}")
+    for two_level in (False, True):
+        n_steps, its, pairs, probes, u = newton(args, sheet, z0, args.sigma1, two_level)
+        name = (f"two-level c = {args.c[0]}, {assembly_name(args)}, coarse {args.coarse_its[0]} its"
+                if two_level else "P M^-1 P")
+        check_equilibrium(u, z1, sheet.h)
+        print(f"  Newton, {name}: {n_steps} Newton steps, {its} CG its, {pairs} FFT pairs "
+              f"({probes} of them probes), A/A0 = {np.mean(u - sheet.h <= 0):.6f}, "
+              f"max |z - z_library| = {np.abs(u - z1).max():.1e}")
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("--fixed", action="store_true")
+    p.add_argument("--newton", action="store_true")
+    p.add_argument("--fire", action="store_true", help="--newton by preconditioned FIRE instead")
+    p.add_argument("--gamma0", type=float, default=0.0, help="adhesion (--fire only)")
+    p.add_argument("--rho", type=float, default=1.0)
+    p.add_argument("--max-steps", type=int, default=20000)
+    p.add_argument("--rebuild", type=float, default=0.0,
+                   help="--fire: the held count's relative change that rebuilds (0: every change)")
+    p.add_argument("--assembly", type=int, default=0,
+                   help="0: the coarse operator probed (S^2 FFT pairs); R > 0: summed from K's "
+                        "real-space kernel cut at radius R (no FFT pair)")
+    p.add_argument("--check", action="store_true",
+                   help="fail unless every CG solution has its residual and every load the library's "
+                        "contact count and surface (the divergent forms excepted: do not --check them)")
+    p.add_argument("--n", type=int, default=256)
+    p.add_argument("--W", type=float, default=0.088)
+    p.add_argument("--sigma0", type=float, default=1e-4)
+    p.add_argument("--sigma1", type=float, default=1.6e-4)
+    p.add_argument("--c", type=lambda s: [int(x) for x in s.split(",")], default=[4])
+    p.add_argument("--probes", type=int, default=4, help="S: S^2 probes, coarse stencil (S+1)^2")
+    p.add_argument("--coarse-its", type=lambda s: [int(x) for x in s.split(",")], default=[5],
+                   help="Jacobi-CG iterations of the coarse solve, 0: exact")
+    args = p.parse_args()
+    if args.n % (max(args.c) * args.probes):
+        sys.exit("n must be a multiple of c times the probes' stride")
+    if args.fixed:
+        fixed(args)
+    if args.gamma0 > 0 and not args.fire:
+        sys.exit("adhesion: --fire only")
+    if args.newton or args.fire:
+        continuing(args)
+    if not (args.fixed or args.newton or args.fire):
+        p.print_help()
+    bad = [(what, value, bound) for what, value, bound in CHECKS if not value <= bound]
+    if args.check and bad:
+        sys.exit("disagree: " + ", ".join(f"{w} {v:.2e} > {b:.0e}" for w, v, b in bad))
+    if args.check:
+        print(f"checked: {len(CHECKS)} solutions' residuals, contact counts and surfaces within bounds")
+
+
+if __name__ == "__main__":
+    main()
