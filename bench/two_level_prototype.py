@@ -28,7 +28,9 @@ What it found (2026-11-28): the coarse space cuts the iterations and steps sever
 with a coarse operator exact for the current held set, and probing it costs S^2 FFT pairs at every
 change of that set; the two cheaper forms here, --assembly R (K's real-space kernel cut at R) and
 --rebuild F (the operator kept until the held count moved by F), fail (CG does not converge; FIRE
-diverges).
+diverges); --drop F (the operator kept, the hats the held set changed in dropped from it, whose
+block stays exact) is stable but loses most of the gain: the coarse space is needed exactly where
+the held set moves.
 
 Both to a tighter tolerance (1e-8 E* g) than the library's default, so that the equilibria can be
 compared (max |z - z_library| printed).  Needs python3-numpy and python3-scipy (apt) and the built
@@ -135,9 +137,10 @@ def coarse_space(sheet, free, c, S, coarse_its, assembly=0):
         d = (t - j * c + n / 2) % n - n / 2
         hat[j] = np.maximum(0.0, 1.0 - np.abs(d) / c)
     hat = sp.csr_matrix(hat)
-    Z = (sp.kron(hat, hat).tocsr() @ sp.diags(free.ravel().astype(float))).tocsr()
+    full = sp.kron(hat, hat).tocsr()
+    Z = (full @ sp.diags(free.ravel().astype(float))).tocsr()
     if assembly > 0:
-        return finish(sheet, free, Z, Z @ sheet.truncated(assembly) @ Z.T, coarse_its, n, nc)
+        return finish(sheet, free, Z, Z @ sheet.truncated(assembly) @ Z.T, coarse_its, n, nc, full)
     R = S // 2
     rows, cols, vals = [], [], []
     for cx in range(S):
@@ -153,24 +156,24 @@ def coarse_space(sheet, free, c, S, coarse_its, assembly=0):
                         cols.append(j)
                         vals.append(seen[rows[-1]])
     return finish(sheet, free, Z, sp.csr_matrix((vals, (rows, cols)), shape=(nc * nc, nc * nc)),
-                  coarse_its, n, nc)
+                  coarse_its, n, nc, full)
 
 
-def finish(sheet, free, Z, A, coarse_its, n, nc):
+def finish(sheet, free, Z, A, coarse_its, n, nc, support=None):
     A = (0.5 * (A + A.T)).tocsr()
     d = A.diagonal()
     A = (A + sp.diags((d <= 0).astype(float))).tocsr()  # a hat with no free point: a unit row
     dinv = 1.0 / A.diagonal()
     lu = spl.splu(A.tocsc()) if coarse_its == 0 else None
 
-    def solve(v):
-        if lu is not None:
+    def solve(v, keep=None):
+        if lu is not None and keep is None:
             return lu.solve(v)
         x, r = np.zeros_like(v), v.copy()
         y = dinv * r
         p, ry = y.copy(), r @ y
         for _ in range(coarse_its):
-            Ap = A @ p
+            Ap = A @ p if keep is None else keep * (A @ p)
             a = ry / (p @ Ap)
             x += a * p
             r -= a * Ap
@@ -179,17 +182,23 @@ def finish(sheet, free, Z, A, coarse_its, n, nc):
             p = y + (ry / ry_old) * p
         return x
 
-    def B(r, now=None):
+    def B(r, now=None, keep=None):
         # now: the free set of the current step when the coarse operator is older (--rebuild);
-        # Q is then masked to it (symmetric), the fine part follows it
+        # Q is then masked to it (symmetric), the fine part follows it.  keep (--drop): the hats
+        # whose support the held set has not changed in since the build; their block of A is
+        # exact for the current held set (A[I, J] reads the free set on the supports of I and J
+        # only), and Q the exact Galerkin correction on them
         f = free if now is None else now
         masked = sheet.masked_inverse(f)
 
         def Q(x):
+            if keep is not None:
+                return (Z.T @ (keep * solve(keep * (Z @ x.ravel()), keep))).reshape(n, n)
             return f * (Z.T @ solve(Z @ (f * x).ravel())).reshape(n, n)
         qr = Q(r)
         u = masked(r - f * sheet.K(qr))
         return qr + u - Q(f * sheet.K(u))
+    B.support = support
     return B, nc
 
 
@@ -297,10 +306,17 @@ def fire(args, sheet, z, sigma1, two_level):
             break
         free = ~held
         count = int(held.sum())
-        changed = (not np.array_equal(held, built_set)) if args.rebuild == 0 else \
-            abs(count - built_on) > args.rebuild * max(built_on, 1)
+        keep = None
+        if args.drop > 0 and B is not None and two_level:
+            # the hats whose support holds a point the held set changed at since the build
+            touched = (B.support @ (held != built_set).ravel().astype(float)) > 0
+            keep = (~touched).astype(float)
+            changed = touched.mean() > args.drop
+        else:
+            changed = (not np.array_equal(held, built_set)) if args.rebuild == 0 else \
+                abs(count - built_on) > args.rebuild * max(built_on, 1)
         if B is None or changed:
-            built_set = held.copy()
+            built_set, keep = held.copy(), None
             if two_level:
                 before = sheet.pairs
                 B, _ = coarse_space(sheet, free, args.c[0], args.probes, args.coarse_its[0], args.assembly)
@@ -308,7 +324,7 @@ def fire(args, sheet, z, sigma1, two_level):
             built_on, rebuilds = count, rebuilds + 1
         if not two_level:
             B = sheet.masked_inverse(free)  # the floor follows the held set, as the library's
-        a = B(force, free) if two_level else B(force)
+        a = B(force, free, keep) if two_level else B(force)
         steps += 1
         v[held] = 0.0
         if (force * v).sum() > 0:
@@ -384,6 +400,9 @@ def main():
     p.add_argument("--assembly", type=int, default=0,
                    help="0: the coarse operator probed (S^2 FFT pairs); R > 0: summed from K's "
                         "real-space kernel cut at radius R (no FFT pair)")
+    p.add_argument("--drop", type=float, default=0.0,
+                   help="--fire: keep the coarse operator, drop the hats whose support the held set "
+                        "changed in, rebuild once more than this fraction of them is dropped")
     p.add_argument("--check", action="store_true",
                    help="fail unless every CG solution has its residual and every load the library's "
                         "contact count and surface (the divergent forms excepted: do not --check them)")
