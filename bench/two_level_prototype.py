@@ -361,30 +361,23 @@ def continuing(args):
     sheet = Sheet(args.n, args.W, args.gamma0, args.rho)
     _, z0 = sheet.relax(args.sigma0)
     steps, z1 = sheet.relax(args.sigma1)
-    solver = sheet.sim.solver
-    if args.fire:
-        print(f"n = {args.n}, W = {args.W}, gamma0 = {args.gamma0:g}, rho = {args.rho:g}, sigma0 "
-              f"{args.sigma0:g} -> {args.sigma1:g}: library {steps} steps (solver {solver}), "
-              f"A/A0 = {np.mean(z1 - sheet.h <= 0):.6f}")
-        for two_level in (False, True):
-            n_steps, pairs, probes, rebuilds, u = fire(args, sheet, z0, args.sigma1, two_level)
-            name = (f"two-level c = {args.c[0]}, {assembly_name(args)}, coarse {args.coarse_its[0]} its"
-                    if two_level else "P M^-1 P")
-            check_equilibrium(u, z1, sheet.h)
-            print(f"  FIRE, {name}: {n_steps} steps, {pairs} FFT pairs ({probes} of them probes, "
-                  f"{rebuilds} held sets), A/A0 = {np.mean(u - sheet.h <= 0):.6f}, "
-                  f"max |z - z_library| = {np.abs(u - z1).max():.1e}", flush=True)
-        return
-    print(f"n = {args.n}, W = {args.W}, sigma0 {args.sigma0:g} -> {args.sigma1:g}: library {steps} steps "
-          f"(solver {solver}), A/A0 = {np.mean(z1 - sheet.h <= 0):.6f}")
+    adhesion = f", gamma0 = {args.gamma0:g}, rho = {args.rho:g}," if args.fire else ","
+    print(f"n = {args.n}, W = {args.W}{adhesion} sigma0 {args.sigma0:g} -> {args.sigma1:g}: library {steps} "
+          f"steps (solver {sheet.sim.solver}), A/A0 = {np.mean(z1 - sheet.h <= 0):.6f}")
     for two_level in (False, True):
-        n_steps, its, pairs, probes, u = newton(args, sheet, z0, args.sigma1, two_level)
         name = (f"two-level c = {args.c[0]}, {assembly_name(args)}, coarse {args.coarse_its[0]} its"
                 if two_level else "P M^-1 P")
+        if args.fire:
+            n_steps, pairs, probes, rebuilds, u = fire(args, sheet, z0, args.sigma1, two_level)
+            what = (f"FIRE, {name}: {n_steps} steps, {pairs} FFT pairs ({probes} of them probes, "
+                    f"{rebuilds} held sets)")
+        else:
+            n_steps, its, pairs, probes, u = newton(args, sheet, z0, args.sigma1, two_level)
+            what = (f"Newton, {name}: {n_steps} Newton steps, {its} CG its, {pairs} FFT pairs "
+                    f"({probes} of them probes)")
         check_equilibrium(u, z1, sheet.h)
-        print(f"  Newton, {name}: {n_steps} Newton steps, {its} CG its, {pairs} FFT pairs "
-              f"({probes} of them probes), A/A0 = {np.mean(u - sheet.h <= 0):.6f}, "
-              f"max |z - z_library| = {np.abs(u - z1).max():.1e}")
+        print(f"  {what}, A/A0 = {np.mean(u - sheet.h <= 0):.6f}, "
+              f"max |z - z_library| = {np.abs(u - z1).max():.1e}", flush=True)
 
 
 def main():
