@@ -24,13 +24,15 @@ pairs) and its system solved exactly or by a few Jacobi-preconditioned CG iterat
   --fire    the same load by FIRE on the preconditioned force (a = P M^-1 P F, or a = B F with the
             coarse operator rebuilt when the held set changes), also with adhesion.
 
-What it found (2026-11-28): the coarse space cuts the iterations and steps several-fold, but only
-with a coarse operator exact for the current held set, and probing it costs S^2 FFT pairs at every
-change of that set; the two cheaper forms here, --assembly R (K's real-space kernel cut at R) and
---rebuild F (the operator kept until the held count moved by F), fail (CG does not converge; FIRE
-diverges); --drop F (the operator kept, the hats the held set changed in dropped from it, whose
-block stays exact) is stable but loses most of the gain: the coarse space is needed exactly where
-the held set moves.
+What it found (2026-11-28): the coarse space cuts the iterations and steps several-fold, with a
+coarse operator that follows the held set at every change; probed, that costs S^2 FFT pairs per
+change and eats the gain; --rebuild F (the operator kept until the held count moved by F) makes
+FIRE diverge; --drop F (the operator kept, the hats the held set changed in dropped from it,
+whose block stays exact) is stable but loses most of the gain: the coarse space is needed exactly
+where the held set moves; --assembly R --sharp (K's real-space kernel cut sharply) leaves CG
+unconverged.  --assembly R (the kernel times a Gaussian window) works as well as the probed
+operator and costs no FFT pair: each entry reads the free set near its two hats only, so it can
+follow the held set point by point.
 
 Both to a tighter tolerance (1e-8 E* g) than the library's default, so that the equilibria can be
 compared (max |z - z_library| printed).  Needs python3-numpy and python3-scipy (apt) and the built
@@ -82,23 +84,34 @@ class Sheet:
         steps = self.sim.relax(tol=TOL)
         return steps, self.sim.surface().copy()
 
-    def truncated(self, radius):
-        """K's real-space kernel cut at |dx|, |dy| <= radius, as a sparse matrix (no FFT pair: an
+    def truncated(self, radius, sharp=False):
+        """K's real-space kernel within |dx|, |dy| <= radius, as a sparse matrix (no FFT pair: an
         assembly a solver could update point by point as the held set changes)."""
-        if getattr(self, "_trunc", (None,))[0] != radius:
+        if getattr(self, "_trunc", (None,))[0] != (radius, sharp):
             n = self.n
             kr = np.fft.irfft2(self.k, s=(n, n))
-            # the cut kernel keeps K's zero sum (k(0) = 0): its centre takes what was cut off,
-            # else the long waves get a stiffness of either sign
-            window = np.zeros((n, n), bool)
-            window[np.ix_(np.r_[0:radius + 1, n - radius:n], np.r_[0:radius + 1, n - radius:n])] = True
-            kr[0, 0] -= kr[window].sum()
+            idx = np.r_[0:radius + 1, n - radius:n]
+            if sharp:
+                # cut sharply, K's zero sum (k(0) = 0) kept by the centre: the long waves get a
+                # stiffness of either sign from the kernel's slowly decaying, alternating tail
+                # along the axes (the kink of k(q) at the zone boundary), and the CG fails
+                w = kr[np.ix_(idx, idx)].copy()
+                w[0, 0] -= w.sum()
+            else:
+                # times a Gaussian window of width radius / 4: the symbol is k(q) averaged over a
+                # width of about 4 / radius (a Gaussian has a positive transform, so the operator
+                # stays positive), stiffer than K at the longest waves, which the contacts pin
+                d = np.where(idx > n // 2, idx - n, idx).astype(float)
+                dx, dy = np.meshgrid(d, d, indexing="ij")
+                w = kr[np.ix_(idx, idx)] * np.exp(-(dx ** 2 + dy ** 2) / (2 * (radius / 4.0) ** 2))
+            kr[:] = 0.0
+            kr[np.ix_(idx, idx)] = w
             shift = [sp.csr_matrix(np.roll(np.eye(n), d, axis=1)) for d in range(-radius, radius + 1)]
             T = sp.csr_matrix((n * n, n * n))
             for i, dx in enumerate(range(-radius, radius + 1)):
                 for j, dy in enumerate(range(-radius, radius + 1)):
                     T = T + kr[dx % n, dy % n] * sp.kron(shift[i], shift[j], format="csr")
-            self._trunc = (radius, T.tocsr())
+            self._trunc = ((radius, sharp), T.tocsr())
         return self._trunc[1]
 
     def K(self, x):
@@ -127,7 +140,7 @@ class Sheet:
         return apply
 
 
-def coarse_space(sheet, free, c, S, coarse_its, assembly=0):
+def coarse_space(sheet, free, c, S, coarse_its, assembly=0, sharp=False):
     """Q and the balancing preconditioner B for the held set ~free; S^2 probes counted as pairs."""
     n = sheet.n
     nc = n // c
@@ -140,7 +153,7 @@ def coarse_space(sheet, free, c, S, coarse_its, assembly=0):
     full = sp.kron(hat, hat).tocsr()
     Z = (full @ sp.diags(free.ravel().astype(float))).tocsr()
     if assembly > 0:
-        return finish(sheet, free, Z, Z @ sheet.truncated(assembly) @ Z.T, coarse_its, n, nc, full)
+        return finish(sheet, free, Z, Z @ sheet.truncated(assembly, sharp) @ Z.T, coarse_its, n, nc, full)
     R = S // 2
     rows, cols, vals = [], [], []
     for cx in range(S):
@@ -241,11 +254,11 @@ def fixed(args):
     for c in args.c:
         for its in args.coarse_its:
             sheet.pairs = 0
-            B, nc = coarse_space(sheet, free, c, args.probes, its, args.assembly)
+            B, nc = coarse_space(sheet, free, c, args.probes, its, args.assembly, args.sharp)
             probes = sheet.pairs
             solve = "exact" if its == 0 else f"{its} Jacobi-CG its"
             if args.assembly:
-                solve += f", kernel cut at {args.assembly}"
+                solve += f", {assembly_name(args)}"
             counts = "".join(f"  {name} {run(B, b, its > 0)}" for name, b in rhs.items())
             print(f"  two-level, c = {c} ({nc}^2 coarse, {probes} probes), coarse solve {solve}:{counts}")
 
@@ -264,7 +277,8 @@ def newton(args, sheet, z, sigma1, two_level):
         steps += 1
         if two_level:
             before = sheet.pairs
-            B, _ = coarse_space(sheet, free, args.c[0], args.probes, args.coarse_its[0], args.assembly)
+            B, _ = coarse_space(sheet, free, args.c[0], args.probes, args.coarse_its[0], args.assembly,
+                                    args.sharp)
             probes += sheet.pairs - before
         else:
             B = sheet.masked_inverse(free)
@@ -319,7 +333,8 @@ def fire(args, sheet, z, sigma1, two_level):
             built_set, keep = held.copy(), None
             if two_level:
                 before = sheet.pairs
-                B, _ = coarse_space(sheet, free, args.c[0], args.probes, args.coarse_its[0], args.assembly)
+                B, _ = coarse_space(sheet, free, args.c[0], args.probes, args.coarse_its[0], args.assembly,
+                                    args.sharp)
                 probes += sheet.pairs - before
             built_on, rebuilds = count, rebuilds + 1
         if not two_level:
@@ -354,7 +369,9 @@ def check_equilibrium(u, z_library, h):
 
 
 def assembly_name(args):
-    return f"kernel cut at {args.assembly}" if args.assembly else f"{args.probes}^2 probes"
+    if args.assembly:
+        return f"kernel {'cut at' if args.sharp else 'windowed to'} {args.assembly}"
+    return f"{args.probes}^2 probes"
 
 
 def continuing(args):
@@ -392,7 +409,8 @@ def main():
                    help="--fire: the held count's relative change that rebuilds (0: every change)")
     p.add_argument("--assembly", type=int, default=0,
                    help="0: the coarse operator probed (S^2 FFT pairs); R > 0: summed from K's "
-                        "real-space kernel cut at radius R (no FFT pair)")
+                        "real-space kernel times a Gaussian window of width R/4 cut at R (no FFT pair)")
+    p.add_argument("--sharp", action="store_true", help="--assembly: the kernel cut sharply, no window")
     p.add_argument("--drop", type=float, default=0.0,
                    help="--fire: keep the coarse operator, drop the hats whose support the held set "
                         "changed in, rebuild once more than this fraction of them is dropped")
