@@ -54,6 +54,7 @@ import gfmd  # noqa: E402
 
 TOL = 1e-8  # of E* g: tighter than the default, so that the methods' equilibria can be compared
 CHECKS = []  # (what, value, bound) of every solution, for --check
+FORM = ["balancing"]  # --form: how the coarse correction and P M^-1 P combine
 
 
 class Sheet:
@@ -209,7 +210,12 @@ def finish(sheet, free, Z, A, coarse_its, n, nc, support=None):
                 return (Z.T @ (keep * solve(keep * (Z @ x.ravel()), keep))).reshape(n, n)
             return f * (Z.T @ solve(Z @ (f * x).ravel())).reshape(n, n)
         qr = Q(r)
+        if FORM[0] == "def2":  # (I - QK) P M^-1 P + Q: one FFT pair fewer, not symmetric
+            u = masked(r)
+            return qr + u - Q(f * sheet.K(u))
         u = masked(r - f * sheet.K(qr))
+        if FORM[0] == "def1":  # P M^-1 P (I - KQ) + Q: one FFT pair fewer, not symmetric
+            return qr + u
         return qr + u - Q(f * sheet.K(u))
     B.support = support
     return B, nc
@@ -414,6 +420,9 @@ def main():
     p.add_argument("--drop", type=float, default=0.0,
                    help="--fire: keep the coarse operator, drop the hats whose support the held set "
                         "changed in, rebuild once more than this fraction of them is dropped")
+    p.add_argument("--form", choices=("balancing", "def1", "def2"), default="balancing",
+                   help="the two-level preconditioner: balancing (symmetric, 3 FFT pairs), or the "
+                        "deflation forms def1 / def2 (2 pairs, not symmetric)")
     p.add_argument("--check", action="store_true",
                    help="fail unless every CG solution has its residual and every load the library's "
                         "contact count and surface (the divergent forms excepted: do not --check them)")
@@ -426,6 +435,7 @@ def main():
     p.add_argument("--coarse-its", type=lambda s: [int(x) for x in s.split(",")], default=[5],
                    help="Jacobi-CG iterations of the coarse solve, 0: exact")
     args = p.parse_args()
+    FORM[0] = args.form
     if args.n % (max(args.c) * args.probes):
         sys.exit("n must be a multiple of c times the probes' stride")
     if args.fixed:
