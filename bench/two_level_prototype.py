@@ -32,7 +32,8 @@ whose block stays exact) is stable but loses most of the gain: the coarse space 
 where the held set moves; --assembly R --sharp (K's real-space kernel cut sharply) leaves CG
 unconverged.  --assembly R (the kernel times a Gaussian window) works as well as the probed
 operator and costs no FFT pair: each entry reads the free set near its two hats only, so it can
-follow the held set point by point.
+follow the held set point by point.  The deflation forms with one FFT pair fewer per step
+(--form def1, def2) did worse than the balancing one.
 
 Both to a tighter tolerance (1e-8 E* g) than the library's default, so that the equilibria can be
 compared (max |z - z_library| printed).  Needs python3-numpy and python3-scipy (apt) and the built
@@ -40,6 +41,7 @@ library (GFMD_LIBRARY or build/).  docs/performance.md, *What was tried*, quotes
 
   python3 bench/two_level_prototype.py --fixed  [--n 256] [--W 0.088] [--sigma0 1e-4] [--c 4]
   python3 bench/two_level_prototype.py --newton [--n 256] [--W 0.088] [--sigma0 1e-4 --sigma1 1.6e-4]
+  python3 bench/two_level_prototype.py --fire --assembly 8 [--gamma0 5e-4 --sigma0 2e-5 --sigma1 3.5e-5]
 """
 import argparse
 import os
