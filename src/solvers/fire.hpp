@@ -10,6 +10,8 @@ namespace gfmd {
 class Fire final : public Solver {
 public:
     void restart(const Dynamics &d) override { control_.restart(kFireDtStart * d.dt / kDtFactor); }
+    // The time step the next advance() starts from (after restart(), FIRE's first)
+    double step() const { return control_.dt; }
     void advance(StepContext &c) override;
     std::unique_ptr<Solver> clone() const override { return std::make_unique<Fire>(*this); }
     std::vector<double> state() const override { return control_.state(); }

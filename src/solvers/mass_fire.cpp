@@ -12,10 +12,9 @@ namespace gfmd {
 // units and the same one in units of a and E* parted after the approach).  It is converted so that
 // it carries each point as far per step as in the approach's last (v dt the same; FIRE's first
 // step then adds its own force and mixing): times the approach's last step over FIRE's first
-// (FIRE restarts with kFireDtStart, Fire::restart).
+// (FIRE was restarted with the approach, so its step is still its first).
 void MassThenFire::carry_over(StepContext &c) const {
-    const double fire_dt = kFireDtStart * c.dynamics.dt / kDtFactor;
-    const double scale = mass_.step() / fire_dt;
+    const double scale = mass_.step() / fire_.step();
     double *v = c.fields.v.data();
     c.grid.for_points([&](int64_t i0, int64_t i1) {
 #pragma omp simd
