@@ -38,9 +38,10 @@ follow the held set point by point.  The deflation forms with one FFT pair fewer
 Measured again that evening at the library's own criterion (--tol; before, the methods here
 stopped at max |F| <= 1e-8 E* g, about the library's default 1e-6, while the library was run to
 1e-8): at the study's tolerance 1e-6 the default took 333, 260 and 1064 steps on the three
-continuing loads (not 424, 340 and 1173), two-level FIRE 114, 126 and 431 — 2.1-2.9x fewer, and
-the default's mass-weighted step costs about 1.6-1.8 FFT pairs (gfmd_bench, 2048²), the two-level
-step 4 pairs and two coarse solves of about 0.85 pair each (timed in C): slower in seconds.  The
+continuing loads (not 424, 340 and 1173), two-level FIRE 114, 126 and 431 — 2.1-2.9x fewer; the
+default's mass-weighted step costs about 3 FFT pairs (gfmd_bench, 2048²), the two-level step 4
+pairs, two coarse solves of about 0.85 pair each (timed in C) and its passes: about 0.9-1.3x the
+default's speed, not the 1.9x the study's thin sheets need.  The
 cheaper forms do not rescue it: --form additive (Q + P M^-1 P, no extra pair) cuts nothing, with
 P M^-1 P's floor raised to the coarse grid's waves (--smoother-floor) neither (in FIRE 573 steps);
 --form adef2 (the balancing form's CG started from Q b, one solve an iteration) needs the Galerkin
