@@ -41,7 +41,8 @@ stopped at max |F| <= 1e-8 E* g, about the library's default 1e-6, while the lib
 continuing loads (not 424, 340 and 1173), two-level FIRE 114, 126 and 431 — 2.1-2.9x fewer; the
 default's mass-weighted step costs about 3 FFT pairs (gfmd_bench, 2048²), the two-level step 4
 pairs, two coarse solves of about 0.85 pair each (timed in C) and its passes: about 0.9-1.3x the
-default's speed, not the 1.9x the study's thin sheets need.  The
+default's speed, not the 1.9x the study's thin sheets need (the Newton method with the coarse
+space 1.1-1.6x without adhesion, 0.95x with it, --newton --gamma0).  The
 cheaper forms do not rescue it: --form additive (Q + P M^-1 P, no extra pair) cuts nothing, with
 P M^-1 P's floor raised to the coarse grid's waves (--smoother-floor) neither (in FIRE 573 steps);
 --form adef2 (the balancing form's CG started from Q b, one solve an iteration) needs the Galerkin
@@ -90,6 +91,7 @@ class Sheet:
         self.sim.set_green(gfmd.LAYER_FLUID, self.w)
         self.sim.generate_selfaffine(0.8, n / 8.0, 4.0, 1.0, 1)
         self.h = self.sim.heights()
+        self.gamma0, self.rho = gamma0, rho
         if gamma0 > 0:
             self.sim.set_adhesion(gamma0, rho)
         qy = 2 * np.pi * np.fft.fftfreq(n)
@@ -142,7 +144,8 @@ class Sheet:
         return np.fft.irfft2(np.fft.rfft2(x) * self.k, s=x.shape)
 
     def energy(self, u, sigma):  # not counted: a solver gets it from the transforms it does anyway
-        return 0.5 * (u * np.fft.irfft2(np.fft.rfft2(u) * self.k, s=u.shape)).sum() + sigma * u.sum()
+        adhesive = -self.gamma0 * np.exp(-(u - self.h) / self.rho).sum() if self.gamma0 > 0 else 0.0
+        return 0.5 * (u * np.fft.irfft2(np.fft.rfft2(u) * self.k, s=u.shape)).sum() + sigma * u.sum() + adhesive
 
     def masked_inverse(self, free, floor_q=0.0):
         """P M^-1 P with the library's floor k_c (src/solvers/cg.cpp: q_c = min(0.5 q_spacing, 1/w),
@@ -250,8 +253,10 @@ def finish(sheet, free, Z, A, coarse_its, n, nc, support=None):
     return B, nc
 
 
-def cg(sheet, free, B, b, rtol, maxit=5000, flexible=False):
-    """(Flexible) preconditioned CG on the free block of K; returns iterations and x."""
+def cg(sheet, free, B, b, rtol, maxit=5000, flexible=False, diag=None):
+    """(Flexible) preconditioned CG on the free block of K (+ diag, the adhesive law's curvature,
+    negative: where p.Ap <= 0 it stops as Steihaug's, with the iterate so far, or with the
+    preconditioned right-hand side at the first iteration); returns iterations and x."""
     if FORM[0] == "adef2" and hasattr(B, "Q"):
         return cg_deflated(sheet, free, B, b, rtol, maxit)
     x, r = np.zeros_like(b), b.copy()
@@ -259,8 +264,11 @@ def cg(sheet, free, B, b, rtol, maxit=5000, flexible=False):
     p, ry = y.copy(), (r * y).sum()
     b0 = np.sqrt((b * b).sum())
     for it in range(1, maxit + 1):
-        Kp = free * sheet.K(p)
-        a = ry / (p * Kp).sum()
+        Kp = free * (sheet.K(p) if diag is None else sheet.K(p) + diag * p)
+        pKp = (p * Kp).sum()
+        if pKp <= 0:
+            return it, (x if it > 1 else p)
+        a = ry / pKp
         x += a * p
         r_old = r.copy() if flexible else None
         r -= a * Kp
@@ -338,11 +346,17 @@ def newton(args, sheet, z, sigma1, two_level):
     h, u = sheet.h, z.copy()
     sheet.pairs = 0
     probes = cg_its = steps = 0
+    gamma, rho = sheet.gamma0, sheet.rho
     while True:
         g = sheet.K(u) + sigma1
+        diag = None
+        if gamma > 0:
+            w = np.exp(-(u - h) / rho)
+            g = g + (gamma / rho) * w
+            diag = -(gamma / rho ** 2) * w
         at_wall = (u - h) <= 0
         free = ~(at_wall & (g >= 0))
-        if converged(np.where(at_wall, np.minimum(g, 0), g), sigma1, 0.0, 1.0) or steps >= 200:
+        if converged(np.where(at_wall, np.minimum(g, 0), g), sigma1, gamma, rho) or steps >= 200:
             return steps, cg_its, sheet.pairs, probes, u
         steps += 1
         if two_level:
@@ -352,7 +366,7 @@ def newton(args, sheet, z, sigma1, two_level):
             probes += sheet.pairs - before
         else:
             B = sheet.masked_inverse(free)
-        its, d = cg(sheet, free, B, -(free * g), 0.1, maxit=500, flexible=two_level)
+        its, d = cg(sheet, free, B, -(free * g), 0.1, maxit=500, flexible=two_level, diag=diag)
         cg_its += its
         e0, alpha = sheet.energy(u, sigma1), 1.0
         while True:
@@ -448,7 +462,7 @@ def continuing(args):
     sheet = Sheet(args.n, args.W, args.gamma0, args.rho)
     _, z0 = sheet.relax(args.sigma0)
     steps, z1 = sheet.relax(args.sigma1)
-    adhesion = f", gamma0 = {args.gamma0:g}, rho = {args.rho:g}," if args.fire else ","
+    adhesion = f", gamma0 = {args.gamma0:g}, rho = {args.rho:g}," if args.gamma0 > 0 or args.fire else ","
     print(f"n = {args.n}, W = {args.W}{adhesion} sigma0 {args.sigma0:g} -> {args.sigma1:g}: library {steps} "
           f"steps (solver {sheet.sim.solver}), A/A0 = {np.mean(z1 - sheet.h <= 0):.6f}")
     for two_level in (False, True):
@@ -477,7 +491,7 @@ def main():
     p.add_argument("--fixed", action="store_true")
     p.add_argument("--newton", action="store_true")
     p.add_argument("--fire", action="store_true", help="--newton by preconditioned FIRE instead")
-    p.add_argument("--gamma0", type=float, default=0.0, help="adhesion (--fire only)")
+    p.add_argument("--gamma0", type=float, default=0.0, help="adhesion (--newton, --fire)")
     p.add_argument("--rho", type=float, default=1.0)
     p.add_argument("--max-steps", type=int, default=20000)
     p.add_argument("--rebuild", type=float, default=0.0,
@@ -517,8 +531,8 @@ def main():
         sys.exit("n must be a multiple of c times the probes' stride")
     if args.fixed:
         fixed(args)
-    if args.gamma0 > 0 and not args.fire:
-        sys.exit("adhesion: --fire only")
+    if args.gamma0 > 0 and args.fixed:
+        sys.exit("adhesion: --newton or --fire only")
     if args.newton or args.fire:
         continuing(args)
     if not (args.fixed or args.newton or args.fire):
