@@ -20,7 +20,8 @@ pairs) and its system solved exactly or by a few Jacobi-preconditioned CG iterat
   --newton  a continuing load sigma0 -> sigma1 from the library's equilibrium at sigma0 by an
             active-set Newton method (the held set fixed per Newton step, its linear problem
             solved by CG to a tenth of its residual, a backtracking step clipped at the wall),
-            FFT pairs counted, against the library's own steps on the same load;
+            FFT pairs counted, against the library's own steps on the same load (with --gamma0
+            the CG runs on K plus the adhesive law's negative curvature, stopped where p.Ap <= 0);
   --fire    the same load by FIRE on the preconditioned force (a = P M^-1 P F, or a = B F with the
             coarse operator rebuilt when the held set changes), also with adhesion.
 
@@ -69,15 +70,15 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import gfmd  # noqa: E402
 
 TOL = [1e-8]  # --tol: the library's criterion (rms residual / (sigma + gamma0/rho)) for every method
+CHECKS = []  # (what, value, bound) of every solution, for --check
+FLOOR_Q = [0.0]  # --smoother-floor F: P M^-1 P floored at k(q) for q <= F pi / c
+FORM = ["balancing"]  # --form: how the coarse correction and P M^-1 P combine
 
 
 def converged(residual, sigma, gamma, rho):
     """gfmd_get_residual's criterion: the rms over all points of the net stress that is not the
     wall's, divided by sigma + gamma0/rho + 1e-8 E* (docs/model.md), <= --tol."""
     return np.sqrt(np.mean(residual ** 2)) <= TOL[0] * (abs(sigma) + gamma / rho + 1e-8)
-CHECKS = []  # (what, value, bound) of every solution, for --check
-FLOOR_Q = [0.0]  # --smoother-floor F: P M^-1 P floored at k(q) for q <= F pi / c
-FORM = ["balancing"]  # --form: how the coarse correction and P M^-1 P combine
 
 
 class Sheet:
@@ -282,8 +283,8 @@ def cg(sheet, free, B, b, rtol, maxit=5000, flexible=False, diag=None):
 
 
 def cg_deflated(sheet, free, B, b, rtol, maxit):
-    """The balancing preconditioner's CG at a third of its coarse solves and 3 FFT pairs an
-    iteration (A-DEF2 of Tang, Nabben, Vuik & Erlangga, J. Sci. Comput. 39, 340 (2009)): started
+    """The balancing preconditioner's CG with one coarse solve and 3 FFT pairs an iteration
+    instead of two and 4 (A-DEF2 of Tang, Nabben, Vuik & Erlangga, J. Sci. Comput. 39, 340 (2009)): started
     from x0 = Q b, the residual stays orthogonal to the hats (Z^T r = 0, exactly with an exact
     coarse solve), so B r = Q r + (I - QK) P M^-1 P (I - KQ) r loses its first solve and its
     first product: y = (I - QK) P M^-1 P r, one solve; flexible CG for the inexact solves."""
