@@ -144,6 +144,15 @@ class Sheet:
         self.pairs += 1
         return np.fft.irfft2(np.fft.rfft2(x) * self.k, s=x.shape)
 
+    def gradient(self, u, sigma):
+        """The energy's gradient K u + sigma + (gamma0/rho) w and the adhesive weight w =
+        exp(-(u - h)/rho) (None without adhesion); one FFT pair."""
+        g = self.K(u) + sigma
+        if self.gamma0 <= 0:
+            return g, None
+        w = np.exp(-(u - self.h) / self.rho)
+        return g + (self.gamma0 / self.rho) * w, w
+
     def energy(self, u, sigma):  # not counted: a solver gets it from the transforms it does anyway
         adhesive = -self.gamma0 * np.exp(-(u - self.h) / self.rho).sum() if self.gamma0 > 0 else 0.0
         return 0.5 * (u * np.fft.irfft2(np.fft.rfft2(u) * self.k, s=u.shape)).sum() + sigma * u.sum() + adhesive
@@ -225,6 +234,9 @@ def finish(sheet, free, Z, A, coarse_its, n, nc, support=None):
             p = y + (ry / ry_old) * p
         return x
 
+    def galerkin(x, f):  # Q x = f Z^T A^-1 Z f x
+        return f * (Z.T @ solve(Z @ (f * x).ravel())).reshape(n, n)
+
     def B(r, now=None, keep=None):
         # now: the free set of the current step when the coarse operator is older (--rebuild);
         # Q is then masked to it (symmetric), the fine part follows it.  keep (--drop): the hats
@@ -237,7 +249,7 @@ def finish(sheet, free, Z, A, coarse_its, n, nc, support=None):
         def Q(x):
             if keep is not None:
                 return (Z.T @ (keep * solve(keep * (Z @ x.ravel()), keep))).reshape(n, n)
-            return f * (Z.T @ solve(Z @ (f * x).ravel())).reshape(n, n)
+            return galerkin(x, f)
         qr = Q(r)
         if FORM[0] == "additive":  # Q + P M^-1 P: symmetric, no FFT pair beyond P M^-1 P's
             return qr + masked(r)
@@ -249,18 +261,22 @@ def finish(sheet, free, Z, A, coarse_its, n, nc, support=None):
             return qr + u
         return qr + u - Q(f * sheet.K(u))
     B.support = support
-    B.Q = lambda x: free * (Z.T @ solve(Z @ (free * x).ravel())).reshape(n, n)
+    B.Q = lambda x: galerkin(x, free)
     B.masked = sheet.masked_inverse(free, FLOOR_Q[0])
     return B, nc
 
 
-def cg(sheet, free, B, b, rtol, maxit=5000, flexible=False, diag=None):
+def cg(sheet, free, B, b, rtol, maxit=5000, flexible=False, diag=None, x0=None):
     """(Flexible) preconditioned CG on the free block of K (+ diag, the adhesive law's curvature,
     negative: where p.Ap <= 0 it stops as Steihaug's, with the iterate so far, or with the
-    preconditioned right-hand side at the first iteration); returns iterations and x."""
+    preconditioned right-hand side at the first iteration) from x0 (0 unless given); returns
+    iterations and x."""
     if FORM[0] == "adef2" and hasattr(B, "Q"):
         return cg_deflated(sheet, free, B, b, rtol, maxit)
-    x, r = np.zeros_like(b), b.copy()
+    if x0 is None:
+        x, r = np.zeros_like(b), b.copy()
+    else:
+        x, r = x0, b - free * sheet.K(x0)
     y = B(r)
     p, ry = y.copy(), (r * y).sum()
     b0 = np.sqrt((b * b).sum())
@@ -289,28 +305,11 @@ def cg_deflated(sheet, free, B, b, rtol, maxit):
     coarse solve), so B r = Q r + (I - QK) P M^-1 P (I - KQ) r loses its first solve and its
     first product: y = (I - QK) P M^-1 P r, one solve; flexible CG for the inexact solves."""
     Q, masked = B.Q, B.masked
-    x = Q(b)
-    r = b - free * sheet.K(x)
-    b0 = np.sqrt((b * b).sum())
 
     def prec(v):
         u = masked(v)
         return u - Q(free * sheet.K(u))
-    y = prec(r)
-    p, ry = y.copy(), (r * y).sum()
-    for it in range(1, maxit + 1):
-        Kp = free * sheet.K(p)
-        a = ry / (p * Kp).sum()
-        x += a * p
-        r_old = r.copy()
-        r -= a * Kp
-        if np.sqrt((r * r).sum()) < rtol * b0:
-            return it, x
-        y = prec(r)
-        beta = ((r - r_old) * y).sum() / ry
-        ry = (r * y).sum()
-        p = y + beta * p
-    return maxit, x
+    return cg(sheet, free, prec, b, rtol, maxit, flexible=True, x0=Q(b))
 
 
 def fixed(args):
@@ -349,12 +348,8 @@ def newton(args, sheet, z, sigma1, two_level):
     probes = cg_its = steps = 0
     gamma, rho = sheet.gamma0, sheet.rho
     while True:
-        g = sheet.K(u) + sigma1
-        diag = None
-        if gamma > 0:
-            w = np.exp(-(u - h) / rho)
-            g = g + (gamma / rho) * w
-            diag = -(gamma / rho ** 2) * w
+        g, w = sheet.gradient(u, sigma1)
+        diag = None if w is None else -(gamma / rho ** 2) * w  # the adhesive law's curvature
         at_wall = (u - h) <= 0
         free = ~(at_wall & (g >= 0))
         if converged(np.where(at_wall, np.minimum(g, 0), g), sigma1, gamma, rho) or steps >= 200:
@@ -393,12 +388,9 @@ def fire(args, sheet, z, sigma1, two_level):
     built_on, built_set, B = -1, None, None
     gamma, rho = args.gamma0, args.rho
     while steps < args.max_steps:
-        gap = u - h
-        g = sheet.K(u) + sigma1
-        if gamma > 0:
-            g = g + (gamma / rho) * np.exp(-gap / rho)
+        g, _ = sheet.gradient(u, sigma1)
         force = -g
-        at_wall = gap <= 0
+        at_wall = (u - h) <= 0
         held = at_wall & (force < 0)
         force[held] = 0.0
         if converged(force, sigma1, gamma, rho):
