@@ -24,6 +24,8 @@ pairs) and its system solved exactly or by a few Jacobi-preconditioned CG iterat
             the CG runs on K plus the adhesive law's negative curvature, stopped where p.Ap <= 0);
   --fire    the same load by FIRE on the preconditioned force (a = P M^-1 P F, or a = B F with the
             coarse operator rebuilt when the held set changes), also with adhesion.
+  --by-residual  the library's own steps on that load to residuals 1e-3, 1e-4, ... --tol (each
+            call continuing the trajectory; checked against one call: the same steps and surface).
 
 What it found (2026-11-28): the coarse space cuts the iterations and steps several-fold, with a
 coarse operator that follows the held set at every change; probed, that costs S^2 FFT pairs per
@@ -479,11 +481,34 @@ def continuing(args):
               f"max |z - z_library| = {np.abs(u - z1).max():.1e}", flush=True)
 
 
+def by_residual(args):
+    """The library's default on the load sigma0 -> sigma1, relaxed to 1e-3, then each decade down
+    to --tol, each call continuing the same trajectory: where a continuing load spends its steps.
+    Checked against one call to --tol on a second handle: the same steps, the same surface."""
+    tols = [10.0 ** -k for k in range(3, 20) if 10.0 ** -k > args.tol * 1.001] + [args.tol]
+    runs = []
+    for staged in (True, False):
+        sheet = Sheet(args.n, args.W, args.gamma0, args.rho)
+        sheet.relax(args.sigma0)
+        sheet.sim.set_pressure(args.sigma1)
+        steps = [sheet.sim.relax(tol=t) for t in (tols if staged else tols[-1:])]
+        runs.append((np.cumsum(steps), sheet.sim.surface().copy(), sheet))
+    (staged, z, sheet), (whole, z1, _) = runs
+    adhesion = f", gamma0 = {args.gamma0:g}, rho = {args.rho:g}," if args.gamma0 > 0 else ","
+    print(f"n = {args.n}, W = {args.W}{adhesion} sigma0 {args.sigma0:g} -> {args.sigma1:g} (solver "
+          f"{sheet.sim.solver}), steps to residuals " + ", ".join(f"{t:g}" for t in tols) + ": " +
+          " ".join(str(k) for k in staged) + f" (one call to {tols[-1]:g}: {whole[-1]})")
+    CHECKS.append(("staged steps", abs(int(staged[-1]) - int(whole[-1])), 0))
+    CHECKS.append(("staged surface", np.abs(z - z1).max(), 0.0))
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--fixed", action="store_true")
     p.add_argument("--newton", action="store_true")
     p.add_argument("--fire", action="store_true", help="--newton by preconditioned FIRE instead")
+    p.add_argument("--by-residual", action="store_true",
+                   help="the library's steps on the load, relaxed to 1e-3, then decade by decade to --tol")
     p.add_argument("--gamma0", type=float, default=0.0, help="adhesion (--newton, --fire)")
     p.add_argument("--rho", type=float, default=1.0)
     p.add_argument("--max-steps", type=int, default=20000)
@@ -524,11 +549,13 @@ def main():
         sys.exit("n must be a multiple of c times the probes' stride")
     if args.fixed:
         fixed(args)
+    if args.by_residual:
+        by_residual(args)
     if args.gamma0 > 0 and args.fixed:
         sys.exit("adhesion: --newton or --fire only")
     if args.newton or args.fire:
         continuing(args)
-    if not (args.fixed or args.newton or args.fire):
+    if not (args.fixed or args.newton or args.fire or args.by_residual):
         p.print_help()
     bad = [(what, value, bound) for what, value, bound in CHECKS if not value <= bound]
     if args.check and bad:
