@@ -43,9 +43,9 @@ stopped at max |F| <= 1e-8 E* g, about the library's default 1e-6, while the lib
 1e-8): at the study's tolerance 1e-6 the default took 333, 260 and 1064 steps on the three
 continuing loads (not 424, 340 and 1173), two-level FIRE 114, 126 and 431 — 2.1-2.9x fewer; the
 default's mass-weighted step costs about 3 FFT pairs (gfmd_bench, 2048²), the two-level step 4
-pairs, two coarse solves of about 0.85 pair each (timed in C) and its passes: about 0.9-1.3x the
-default's speed, not the 1.9x the study's thin sheets need (the Newton method with the coarse
-space 1.1-1.6x without adhesion, 0.95x with it, --newton --gamma0).  The
+pairs, two coarse solves of about 0.9 pair each (bench/coarse_solve_timing) and its passes: about
+0.9-1.3x the default's speed, not the 1.9x the study's thin sheets need (the Newton method with
+the coarse space 1.1-1.5x without adhesion, 0.93x with it, --newton --gamma0).  The
 cheaper forms do not rescue it: --form additive (Q + P M^-1 P, no extra pair) cuts nothing, with
 P M^-1 P's floor raised to the coarse grid's waves (--smoother-floor) neither (in FIRE 573 steps);
 --form adef2 (the balancing form's CG started from Q b, one solve an iteration) needs the Galerkin
