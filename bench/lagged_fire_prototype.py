@@ -102,7 +102,8 @@ def fire(body, z, sigma, tol, form="exact", max_steps=300000):
     optimistic  what a fused pass can do: the step taken as mixlag's downhill one; if the sums
                 then say uphill, the step redone from the state rebuilt from the pass's own output
                 (z - dt v, and v from the mixing) -- exact but at the points the pass clamped to
-                the wall, whose state it overwrote: taken as at rest on the wall."""
+                the wall, whose state it overwrote: taken as at rest on the wall; and one
+                evaluation more at the end, as lagged."""
     lagged = form in ("lagged", "undo")
     dt, alpha, positive = DT_START * body.dt, ALPHA0, 0
     v = np.zeros_like(z)
@@ -111,7 +112,8 @@ def fire(body, z, sigma, tol, form="exact", max_steps=300000):
     while steps < max_steps:
         f, r, sums = body.forces(z, v, sigma)
         if body.converged(r, sigma, tol):
-            return steps + (1 if lagged and steps > 0 else 0), z
+            # a fused pass has moved the surface past the state it certified: one evaluation more
+            return steps + (1 if form in ("lagged", "undo", "optimistic") and steps > 0 else 0), z
         fi = np.where(z <= h, np.maximum(f, 0.0), f)
         v2 = sums[2]  # |v|^2 of the state before the step: known to every form
         power, f2 = (last if lagged and last is not None else sums)[:2]
