@@ -26,6 +26,9 @@ pairs) and its system solved exactly or by a few Jacobi-preconditioned CG iterat
             coarse operator rebuilt when the held set changes), also with adhesion.
   --by-residual  the library's own steps on that load to residuals 1e-3, 1e-4, ... --tol (each
             call continuing the trajectory; checked against one call: the same steps and surface).
+  --stencil DEG  with --newton: the second method's CG preconditioned not by the coarse space but
+            by the exact inverse of a real-space stencil's block on the free points, the stencil
+            L^2 times a polynomial of degree DEG in L (L the 5-point -Laplacian) fitted to k(q).
 
 What it found (2026-11-28): the coarse space cuts the iterations and steps several-fold, with a
 coarse operator that follows the held set at every change; probed, that costs S^2 FFT pairs per
@@ -178,6 +181,50 @@ class Sheet:
             self.pairs += 1
             return free * np.fft.irfft2(np.fft.rfft2(free * r) / m, s=r.shape)
         return apply
+
+
+def stencil_matrix(sheet, deg):
+    """A real-space stencil S ~ K for --stencil: L^2 (c0 + c1 L + ... + c_deg L^deg), L the
+    periodic 5-point -Laplacian (symbol lam = 4 - 2 cos qx - 2 cos qy), the c fitted to k(q) / lam^2
+    by least squares in the relative error over the modes (a thin sheet's k is w^3 q^4 / 12 at
+    long waves, lam^2 -> q^4); a stencil 2 deg + 5 points wide.  Returns S and the range of its
+    symbol over k(q), q != 0 (CG's count depends on that ratio's spread, not on its scale)."""
+    n = sheet.n
+    e = np.ones(n)
+    D = sp.diags([-e[:-1], 2 * e, -e[:-1]], [-1, 0, 1], format="lil")
+    D[0, n - 1] = D[n - 1, 0] = -1
+    I1 = sp.identity(n, format="csr")
+    L = (sp.kron(D.tocsr(), I1) + sp.kron(I1, D.tocsr())).tocsr()
+    qy = 2 * np.pi * np.fft.fftfreq(n)
+    qx = 2 * np.pi * np.fft.rfftfreq(n)
+    lam = (4 - 2 * np.cos(qx)[None, :] - 2 * np.cos(qy)[:, None])[sheet.q > 0]
+    y = sheet.k[sheet.q > 0] / lam ** 2
+    A = np.array([lam ** a for a in range(deg + 1)]).T
+    c, *_ = np.linalg.lstsq(A / y[:, None], np.ones_like(y), rcond=None)
+    ratio = (A @ c) / y
+    poly, power = c[0] * sp.identity(n * n, format="csr"), sp.identity(n * n, format="csr")
+    for a in range(1, deg + 1):
+        power = (power @ L).tocsr()
+        poly = poly + c[a] * power
+    return (L @ L @ poly).tocsc(), (ratio.min(), ratio.max())
+
+
+def stencil_inverse(sheet, free, deg):
+    """--stencil: r -> S_FF^-1 r on the free points, the inverse of the stencil's free block (the
+    sheet bending between the points the wall holds, which they hold at rest), by a sparse LU
+    factorization per held set -- the ideal a multigrid solve would approximate; solves counted."""
+    if getattr(sheet, "_stencil", (None,))[0] != deg:
+        sheet._stencil = (deg,) + stencil_matrix(sheet, deg)
+    S = sheet._stencil[1]
+    idx = np.flatnonzero(free.ravel())
+    solve = spl.factorized(S[idx][:, idx].tocsc())
+
+    def apply(r):
+        sheet.solves += 1
+        x = np.zeros(r.size)
+        x[idx] = solve(r.ravel()[idx])
+        return x.reshape(r.shape)
+    return apply
 
 
 def coarse_space(sheet, free, c, S, coarse_its, assembly=0, sharp=False):
@@ -357,7 +404,9 @@ def newton(args, sheet, z, sigma1, two_level):
         if converged(np.where(at_wall, np.minimum(g, 0), g), sigma1, gamma, rho) or steps >= 200:
             return steps, cg_its, sheet.pairs, probes, u
         steps += 1
-        if two_level:
+        if two_level and args.stencil >= 0:
+            B = stencil_inverse(sheet, free, args.stencil)
+        elif two_level:
             before = sheet.pairs
             B, _ = coarse_space(sheet, free, args.c[0], args.probes, args.coarse_its[0], args.assembly,
                                     args.sharp)
@@ -463,6 +512,11 @@ def continuing(args):
     for two_level in (False, True):
         name = (f"two-level c = {args.c[0]}, {assembly_name(args)}, coarse {args.coarse_its[0]} its"
                 if two_level else "P M^-1 P")
+        if two_level and args.stencil >= 0:
+            sheet._stencil = (args.stencil,) + stencil_matrix(sheet, args.stencil)
+            lo, hi = sheet._stencil[2]
+            name = (f"stencil L^2 poly(L) of degree {args.stencil} (its symbol {lo:.2f}-{hi:.2f} of k(q)), "
+                    f"its free block solved exactly")
         if two_level and args.form != "balancing":
             name += f", {args.form}"
         sheet.solves = 0
@@ -475,7 +529,7 @@ def continuing(args):
             what = (f"Newton, {name}: {n_steps} Newton steps, {its} CG its, {pairs} FFT pairs "
                     f"({probes} of them probes)")
         if two_level:
-            what += f", {sheet.solves} coarse solves"
+            what += f", {sheet.solves} {'stencil' if args.stencil >= 0 else 'coarse'} solves"
         check_equilibrium(u, z1, sheet.h)
         print(f"  {what}, A/A0 = {np.mean(u - sheet.h <= 0):.6f}, "
               f"max |z - z_library| = {np.abs(u - z1).max():.1e}", flush=True)
@@ -533,6 +587,9 @@ def main():
                         "contact count and surface (the divergent forms excepted: do not --check them)")
     p.add_argument("--tol", type=float, default=1e-8,
                    help="relative residual (the library's criterion) for the library and every method")
+    p.add_argument("--stencil", type=int, default=-1, metavar="DEG",
+                   help="--newton: the second method's CG preconditioned by the exact inverse of a "
+                        "real-space stencil's free block, L^2 times a polynomial of degree DEG in L")
     p.add_argument("--n", type=int, default=256)
     p.add_argument("--W", type=float, default=0.088)
     p.add_argument("--sigma0", type=float, default=1e-4)
@@ -545,6 +602,8 @@ def main():
     FORM[0] = args.form
     TOL[0] = args.tol
     FLOOR_Q[0] = args.smoother_floor * np.pi / args.c[0]
+    if args.stencil >= 0 and (not args.newton or args.fire):
+        sys.exit("--stencil is a preconditioner of --newton's CG")
     if args.n % (max(args.c) * args.probes):
         sys.exit("n must be a multiple of c times the probes' stride")
     if args.fixed:
