@@ -1,4 +1,4 @@
-/* A measurement, not part of the library: what one multigrid V(2,2)-cycle for a thin sheet's
+/* A measurement, not part of the library: what one multigrid V(2,2)-cycle (--nu) for a thin sheet's
  * stencil block on the free points would cost beside a bare r2c + c2r FFT pair, done as a C
  * implementation would (bench/two_level_prototype.py --stencil 0 --stencil-mg 2 counts the cycles;
  * docs/performance.md, *What was tried*, a real-space stencil for the sheet between its contacts):
@@ -17,7 +17,8 @@
  * periodic boundary (tried: 5 colours on sides of powers of 2) gave wrong coarse operators and a
  * cycle that diverged on some grids.
  *
- *   stencil_vcycle_timing [--n N] [--phi F] [--reps R]   (defaults 2048, 0.05, 3; N a power of 2 >= 32)
+ *   stencil_vcycle_timing [--n N] [--phi F] [--reps R] [--nu S]
+ *                         (defaults 2048, 0.05, 3, 2; N a power of 2 >= 32; S sweeps: a V(S,S)-cycle)
  *
  * The passes are built for the baseline and for AVX2 + FMA (target_clones on x86-64). */
 #include <fftw3.h>
@@ -44,6 +45,7 @@ typedef struct {
 static level lv[MAXL];
 static int nl;
 static unsigned char *held; /* fine grid: 1 where the wall holds the point */
+static int nu = 2;          /* Jacobi sweeps before and after the coarse correction (--nu) */
 
 static inline int wrap(int i, int m) { return i & (m - 1); } /* m a power of 2 */
 
@@ -181,13 +183,13 @@ static void cycle(int l) {
         return;
     }
     memset(lv[l].x, 0, mm * sizeof(double));
-    jacobi(l, 2);
+    jacobi(l, nu);
     apply(l, lv[l].x, lv[l].t);
     for (size_t p = 0; p < mm; p++) lv[l].r[p] = lv[l].b[p] - lv[l].t[p];
     restrict_to(l, lv[l].r, lv[l + 1].b);
     cycle(l + 1);
     prolong_add(l, lv[l + 1].x, lv[l].x);
-    jacobi(l, 2);
+    jacobi(l, nu);
 }
 
 /* level l+1's coefficients by probing: for each of the 64 colours (I mod 8, J mod 8: the sides are
@@ -231,13 +233,14 @@ int main(int argc, char **argv) {
         if (!strcmp(argv[i], "--n") && i + 1 < argc) n = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--phi") && i + 1 < argc) phi = atof(argv[++i]);
         else if (!strcmp(argv[i], "--reps") && i + 1 < argc) reps = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--nu") && i + 1 < argc) nu = atoi(argv[++i]);
         else {
-            fprintf(stderr, "usage: %s [--n N] [--phi F] [--reps R]\n", argv[0]);
+            fprintf(stderr, "usage: %s [--n N] [--phi F] [--reps R] [--nu S]\n", argv[0]);
             return 2;
         }
     }
-    if (n < 32 || (n & (n - 1)) || !(phi >= 0.0 && phi < 1.0) || reps < 1) {
-        fprintf(stderr, "stencil_vcycle_timing: N a power of 2 >= 32, 0 <= F < 1, R >= 1\n");
+    if (n < 32 || (n & (n - 1)) || !(phi >= 0.0 && phi < 1.0) || reps < 1 || nu < 1 || nu > 8) {
+        fprintf(stderr, "stencil_vcycle_timing: N a power of 2 >= 32, 0 <= F < 1, R >= 1, 1 <= S <= 8\n");
         return 2;
     }
     for (int m = n; m >= 16; m /= 2) {
@@ -325,8 +328,8 @@ int main(int argc, char **argv) {
         for (size_t p = 0; p < N; p++) x[p] += lv[0].x[p];
     }
     const double rate = pow(rk / r0, 1.0 / 8.0);
-    printf("n = %d, held fraction %.3f, %d grids, one thread: residual reduced %.3f a V(2,2)-cycle over 8\n", n, phi,
-           nl, rate);
+    printf("n = %d, held fraction %.3f, %d grids, one thread: residual reduced %.3f a V(%d,%d)-cycle over 8\n", n, phi,
+           nl, rate, nu, nu);
     if (!(rate < 1.0)) {
         fprintf(stderr, "stencil_vcycle_timing: the cycle does not converge (%g a cycle)\n", rate);
         return 1; /* the operating system frees the rest */
