@@ -175,15 +175,20 @@ static void damp(int l) {
     for (size_t p = 0; p < mm; p++) lv[l].dinv[p] *= 4.0 / (3.0 * 1.25 * lam);
 }
 
+/* the first sweep from x = 0: x = D^-1 b, no operator to apply (the same bits as a sweep) */
+CLONES static void first_sweep(int l) {
+    const size_t mm = (size_t)lv[l].m * lv[l].m;
+    for (size_t p = 0; p < mm; p++) lv[l].x[p] = lv[l].dinv[p] * lv[l].b[p];
+}
+
 static void cycle(int l) {
     const size_t mm = (size_t)lv[l].m * lv[l].m;
+    first_sweep(l);
     if (l == nl - 1) {
-        memset(lv[l].x, 0, mm * sizeof(double));
-        jacobi(l, 40);
+        jacobi(l, 39);
         return;
     }
-    memset(lv[l].x, 0, mm * sizeof(double));
-    jacobi(l, nu);
+    jacobi(l, nu - 1);
     apply(l, lv[l].x, lv[l].t);
     for (size_t p = 0; p < mm; p++) lv[l].r[p] = lv[l].b[p] - lv[l].t[p];
     restrict_to(l, lv[l].r, lv[l + 1].b);
