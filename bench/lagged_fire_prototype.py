@@ -23,12 +23,13 @@ of the passes, about a tenth of a step: not built.
 
 Loads (the study's substrate, H = 0.8, lambda_s = 4a, lambda_r = n a / 8, seed 1, E* = 1): a
 half-space and a layer W = 1 from flat, a thin sheet's continuing load, and the same sheet with
-adhesion.  --check asserts that the numpy FIRE takes the library's steps within 10 % (the same
+adhesion; the body is two_level_prototype's Sheet.  --check asserts that the numpy FIRE takes the library's steps within 10 % (the same
 algorithm; numpy's transforms round differently from FFTW's) and that every form reaches the
 library's contact count within 0.5 % (a few points at the tolerance).  The library's handles plan
 with FFTW_ESTIMATE, so that the equilibria numpy's runs start from have the same bits in every
 run (FFTW_MEASURE may pick other plans; the late forms' counts move with the last bits).  Needs
-python3-numpy and the built library (GFMD_LIBRARY or build/).
+python3-numpy, python3-scipy (through two_level_prototype) and the built library (GFMD_LIBRARY
+or build/).
 
   python3 bench/lagged_fire_prototype.py [--n 256] [--tol 1e-6] [--check]
 """
@@ -40,51 +41,33 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "python"))
 import gfmd  # noqa: E402
+from two_level_prototype import Sheet, converged  # noqa: E402  (this directory is on sys.path)
 
 # FIRE's control as src/solvers/fire_control.hpp has it
 FORMS = ("exact", "lagged", "undo", "mixlag", "optimistic")
 DT_MAX, DT_START, INC, DEC, ALPHA0, ALPHA_DEC, DELAY = 1.3, 0.5, 1.1, 0.5, 0.1, 0.99, 5
 
 
-class Body:
-    """A body on the study's substrate and its stiffness k(q) per point (E* = 1, a = 1)."""
+class Body(Sheet):
+    """two_level_prototype's Sheet (the study's substrate, k(q) per point; W = 0 a half-space) on one
+    thread with FFTW_ESTIMATE plans, relaxed by the library's FIRE, and FIRE's time step."""
 
     def __init__(self, n, W, gamma0=0.0, rho=1.0):
-        self.n = n
-        self.sim = gfmd.Simulation(n, n, float(n), float(n), threads=1, planner=gfmd.ESTIMATE)
-        self.sim.set_modulus(1.0)
-        if W > 0:
-            self.sim.set_green(gfmd.LAYER_FLUID, 4.0 * W)
-        self.sim.generate_selfaffine(0.8, n / 8.0, 4.0, 1.0, 1)
+        super().__init__(n, W, gamma0, rho, threads=1, planner=gfmd.ESTIMATE)
         self.sim.set_solver(gfmd.FIRE)
-        self.h = self.sim.heights().copy()
-        self.gamma0, self.rho = gamma0, rho
-        if gamma0 > 0:
-            self.sim.set_adhesion(gamma0, rho)
-        qy = 2 * np.pi * np.fft.fftfreq(n)
-        qx = 2 * np.pi * np.fft.rfftfreq(n)
-        q = np.hypot(*np.meshgrid(qx, qy))
-        f = np.ones_like(q)
-        if W > 0:
-            for i, t in np.ndenumerate(q * 4.0 * W):
-                if t > 0:
-                    f[i] = gfmd.green_factor(gfmd.LAYER_FLUID, t)
-        self.k = np.where(q > 0, q / (2 * f), 0.0)
         self.dt = 1.0 / np.sqrt(self.k.max() + (gamma0 / rho ** 2 if gamma0 > 0 else 0.0))
 
     def forces(self, z, v, sigma):
         """The completion: the force, the projected force r (in contact only pulling away counts)
         and FIRE's sums (power r.v, |r|^2, |v|^2)."""
-        f = -np.fft.irfft2(np.fft.rfft2(z) * self.k, s=z.shape) - sigma
-        if self.gamma0 > 0:
-            f -= (self.gamma0 / self.rho) * np.exp(-(z - self.h) / self.rho)
+        f, _ = self.gradient(z, sigma)
+        f = -f
         contact = z <= self.h
         r = np.where(contact, np.maximum(f, 0.0), f)
         return f, r, ((r * v).sum(), (r * r).sum(), (v * v).sum())
 
     def converged(self, r, sigma, tol):
-        """gfmd_get_residual's criterion: the rms of r over sigma + gamma0/rho + 1e-8 E*."""
-        return np.sqrt(np.mean(r ** 2)) <= tol * (abs(sigma) + self.gamma0 / self.rho + 1e-8)
+        return converged(r, sigma, self.gamma0, self.rho, tol)
 
 
 def fire(body, z, sigma, tol, form="exact", max_steps=300000):
