@@ -1,0 +1,508 @@
+/* A measurement, not part of the library: a thin sheet's continuing load solved by an active-set
+ * Newton method whose CG is preconditioned by one multigrid V(nu,nu)-cycle for the real-space
+ * stencil's block on the free points (stencil_mg.h), timed against the library's default relax
+ * of the same load in the same run (docs/performance.md, *What was tried*, a real-space stencil
+ * for the sheet between its contacts; bench/two_level_prototype.py --newton --stencil 0
+ * --stencil-mg NU is its numpy model, which counts iterations only).
+ *
+ * The body: the study's substrate (H = 0.8, lambda_s = 4a, lambda_r = n a/8, rms gradient 1, seed
+ * 1), E* = 1, a layer of width w = 4 W a on a fluid foundation, adhesion gamma0, rho if given; the
+ * loads sigma0 -> sigma1 those for which Persson's theory gives A/A0 = --areas A0,A1 (the study's
+ * first two: 0.004, 0.008).  The library relaxes sigma0 (from --levels grids: the study's
+ * multilevel first load), then sigma1 by its default solver (timed); the Newton method starts
+ * from the same equilibrium at sigma0 (timed):
+ *   each step   the gradient g = K u + sigma1 + (gamma0/rho) e, e = exp(-(u - h)/rho); the held
+ *               points those at the wall with g >= 0, the rest free; stop when the library's
+ *               residual criterion holds (rms of g, of min(g, 0) at the wall, <= tol (|sigma1| +
+ *               gamma0/rho + 1e-8));
+ *   the step d  CG on (K - (gamma0/rho^2) e)_FF d = -g_F to a tenth of its right-hand side (at
+ *               most 500 iterations; stopped where the curvature is not positive, as Steihaug's),
+ *               preconditioned by (1/c0) V(L^2_FF), c0 L^2 the 13-point stencil fitted to k(q);
+ *               the coarse operators assembled for the first held set, then updated where it
+ *               changes (mg_update);
+ *   the search  u + alpha d cut at the substrate, alpha halved from 1 until the energy falls by
+ *               1e-4 of the gradient's prediction; every trial costs an FFT pair (counted), the
+ *               accepted one's gradient is the next step's.
+ * --methods also runs, from the same start, FIRE with the cycle as its mass matrix (fire: the
+ * library's control and update, fire_control.hpp and kernels' mass_update, its unit time step
+ * 1/sqrt(lambda_max(V K_FF)) by 15 power iterations, counted) and the library's projected surface
+ * CG (cg.hpp) with the cycle as its preconditioner (pcg: a t.K.t pair counted where the library
+ * spends half one); --no-curvature drops the adhesive curvature from the Newton method's matrix.
+ * The cycle runs in single precision (stencil_mg.h).
+ * It prints each method's time beside the library's, its parts (FFT pairs, cycles, assembly) in
+ * bare pairs of the same run, and fails (exit 1) unless each meets the criterion and its contact
+ * area agrees with the library's to 1e-3 relative and, without adhesion, its surface to 1e-3 a
+ * (both stopped at the same residual; at 1e-6 a sheet's softest modes leave displacements of
+ * ~1e-4 a).
+ *
+ *   stencil_newton [--n N] [--W W] [--areas A0,A1] [--gamma0 G --rho R] [--nu S] [--tol T]
+ *                  [--levels L] [--methods M,..] [--no-curvature] [--rtol R] [--verbose]
+ *                  (defaults 2048, 0.088, 0.004,0.008, no adhesion, 1, 1e-6, 4, newton, 0.1) */
+#include <fftw3.h>
+#include <gfmd.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "bench_clock.h"
+#include "stencil_mg.h"
+
+static int n;
+static fftw_plan r2c, c2r;
+static fftw_complex *spec;
+static double *kq;        /* k(q) / N on the r2c half spectrum */
+static long pairs;        /* FFT pairs spent by the Newton method */
+static double sigma, gam, rho_;
+/* --methods: the Newton method; FIRE with the cycle as its mass matrix (the library's control and
+ * update, fire_control.hpp and mass_update); the library's projected surface CG (cg.hpp) with the
+ * cycle as its preconditioner */
+static const char *const NAMES[] = {"newton", "fire", "pcg"};
+static int verbose = 0;     /* --verbose: a line a step on stderr */
+static double cg_rtol = 0.1; /* the Newton method's CG: to this fraction of its right-hand side (--rtol) */
+static int curvature = 1; /* the adhesive law's curvature in the Newton method's matrix (--no-curvature: 0) */
+static const double *h;   /* the substrate */
+
+/* y = K x (x and y may not alias: out of place as the library's step) */
+static void stiffness(const double *x, double *y) {
+    const size_t nc = (size_t)n * (n / 2 + 1);
+    fftw_execute_dft_r2c(r2c, (double *)x, spec);
+    for (size_t k = 0; k < nc; k++) {
+        spec[k][0] *= kq[k];
+        spec[k][1] *= kq[k];
+    }
+    fftw_execute_dft_c2r(c2r, spec, y);
+    pairs++;
+}
+
+/* g = K u + sigma + (gamma0/rho) e, e = exp(-(u - h)/rho) (NULL without adhesion); returns the
+ * energy 1/2 u.Ku + sigma sum u - gamma0 sum e */
+static double slack; /* the last energy's rounding: 1e-12 of the sum of its terms' magnitudes */
+static double gradient(const double *u, double *g, double *e) {
+    const size_t N = (size_t)n * n;
+    stiffness(u, g);
+    double energy = 0.0, size = 0.0;
+    for (size_t p = 0; p < N; p++) {
+        energy += 0.5 * u[p] * g[p] + sigma * u[p];
+        size += fabs(0.5 * u[p] * g[p]) + fabs(sigma * u[p]);
+        g[p] += sigma;
+        if (gam > 0) {
+            e[p] = exp(-(u[p] - h[p]) / rho_);
+            g[p] += (gam / rho_) * e[p];
+            energy -= gam * e[p];
+            size += gam * e[p];
+        }
+    }
+    slack = 1e-12 * size;
+    return energy;
+}
+
+static void swap(double **a, double **b) {
+    double *t = *a;
+    *a = *b;
+    *b = t;
+}
+
+static double dot(const double *a, const double *b, size_t N) {
+    double s = 0.0;
+    for (size_t p = 0; p < N; p++) s += a[p] * b[p];
+    return s;
+}
+
+static double t_cycles, c0;
+static long cycles;
+
+/* V(r) on the free points (zero on the held ones, as r is), in single precision (stencil_mg.h);
+ * the result, lv[0].x, is returned (the preconditioner is (1/c0) V: the caller scales) */
+static const mgreal *precondition(const double *r) {
+    const size_t N = (size_t)n * n;
+    const double t0 = now();
+    for (size_t p = 0; p < N; p++) lv[0].b[p] = (mgreal)r[p];
+    cycle(0);
+    cycles++;
+    t_cycles += now() - t0;
+    return lv[0].x;
+}
+
+static void usage(const char *name) {
+    fprintf(stderr,
+            "usage: %s [--n N] [--W W] [--areas A0,A1] [--gamma0 G --rho R] [--nu S] [--tol T] [--levels L]\n"
+            "       [--methods newton,fire,pcg] [--no-curvature] [--rtol R] [--verbose]\n",
+            name);
+    exit(2);
+}
+
+#define CHECK(call)                                                                                                    \
+    do {                                                                                                               \
+        const int32_t st_ = (call);                                                                                    \
+        if (st_ != GFMD_OK && st_ != GFMD_ERR_NOT_CONVERGED) {                                                         \
+            fprintf(stderr, "stencil_newton: %s: %s\n", #call, gfmd_status_string(st_));                               \
+            return 1;                                                                                                  \
+        }                                                                                                              \
+    } while (0)
+
+int main(int argc, char **argv) {
+    double W = 0.088, area0 = 0.004, area1 = 0.008, tol = 1e-6;
+    int levels = 4, methods[3] = {0}, n_methods = 1;
+    n = 2048, nu = 1, rho_ = 1.0;
+    setvbuf(stdout, NULL, _IOLBF, 0); /* each line as it is printed, also into a file */
+    for (int i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "--n") && i + 1 < argc) n = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--W") && i + 1 < argc) W = atof(argv[++i]);
+        else if (!strcmp(argv[i], "--areas") && i + 1 < argc) {
+            if (sscanf(argv[++i], "%lf,%lf", &area0, &area1) != 2) usage(argv[0]);
+        } else if (!strcmp(argv[i], "--gamma0") && i + 1 < argc) gam = atof(argv[++i]);
+        else if (!strcmp(argv[i], "--rho") && i + 1 < argc) rho_ = atof(argv[++i]);
+        else if (!strcmp(argv[i], "--nu") && i + 1 < argc) nu = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--tol") && i + 1 < argc) tol = atof(argv[++i]);
+        else if (!strcmp(argv[i], "--levels") && i + 1 < argc) levels = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--no-curvature")) curvature = 0;
+        else if (!strcmp(argv[i], "--rtol") && i + 1 < argc) cg_rtol = atof(argv[++i]);
+        else if (!strcmp(argv[i], "--verbose")) verbose = 1;
+        else if (!strcmp(argv[i], "--methods") && i + 1 < argc) {
+            n_methods = 0;
+            for (char *tok = strtok(argv[++i], ","); tok; tok = strtok(NULL, ",")) {
+                int m = 0;
+                while (m < 3 && strcmp(tok, NAMES[m])) m++;
+                if (m == 3 || n_methods == 3) usage(argv[0]);
+                methods[n_methods++] = m;
+            }
+        }
+        else usage(argv[0]);
+    }
+    if (n < 32 || (n & (n - 1)) || !(W > 0) || !(area0 > 0 && area0 < area1 && area1 < 1) || !(gam >= 0) ||
+        !(rho_ > 0) || nu < 1 || nu > 8 || !(tol > 0) || !(cg_rtol > 0 && cg_rtol < 1) || levels < 1 || levels > 8) {
+        fprintf(stderr, "stencil_newton: N a power of 2 >= 32, W > 0, 0 < A0 < A1 < 1, G >= 0, R > 0, 1 <= S <= 8, "
+                        "T > 0, 0 < R < 1, 1 <= L <= 8\n");
+        return 2;
+    }
+    const size_t N = (size_t)n * n, nc = (size_t)n * (n / 2 + 1);
+    /* the library's run */
+    gfmd_sim *s = NULL;
+    CHECK(gfmd_sim_create_ex(n, n, n, n, 1, GFMD_PLANNER_MEASURE, &s));
+    CHECK(gfmd_set_modulus(s, 1.0));
+    CHECK(gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 4.0 * W));
+    CHECK(gfmd_generate_selfaffine(s, 0.8, n / 8.0, 4.0, 1.0, 1, GFMD_DIST_UNIFORM));
+    if (gam > 0) CHECK(gfmd_set_adhesion(s, gam, rho_));
+    double sigma0, sigma1, area_lib;
+    CHECK(gfmd_persson_load(s, area0, &sigma0));
+    CHECK(gfmd_persson_load(s, area1, &sigma1));
+    double *hh = fftw_alloc_real(N), *u = fftw_alloc_real(N), *z0 = fftw_alloc_real(N), *z1 = fftw_alloc_real(N),
+           *g = fftw_alloc_real(N),
+           *e = fftw_alloc_real(N), *d = fftw_alloc_real(N), *r = fftw_alloc_real(N),
+           *pp = fftw_alloc_real(N), *kp = fftw_alloc_real(N), *trial = fftw_alloc_real(N), *gt = fftw_alloc_real(N),
+           *et = fftw_alloc_real(N);
+    kq = fftw_alloc_real(nc);
+    spec = fftw_alloc_complex(nc);
+    held = malloc(N);
+    unsigned char *was = malloc(N), *dirty[MAXL] = {0};
+    size_t *changed = malloc(N * sizeof(size_t));
+    if (!hh || !u || !z0 || !z1 || !g || !e || !d || !r || !pp || !kp || !trial || !gt || !et || !kq || !spec ||
+        !held ||
+        !was || !changed) {
+        fprintf(stderr, "stencil_newton: out of memory\n");
+        return 1;
+    }
+    CHECK(gfmd_get_heights(s, hh));
+    h = hh;
+    CHECK(gfmd_set_pressure(s, sigma0));
+    int64_t steps0 = 0, steps1 = 0, coarse = 0;
+    if (levels > 1) CHECK(gfmd_relax_multilevel(s, tol, 10000000, levels, &steps0, &coarse));
+    else CHECK(gfmd_relax(s, tol, 10000000, &steps0));
+    CHECK(gfmd_get_surface(s, z0));
+    CHECK(gfmd_set_pressure(s, sigma1));
+    double t0 = now();
+    CHECK(gfmd_relax(s, tol, 10000000, &steps1));
+    const double t_lib = now() - t0;
+    int32_t solver;
+    CHECK(gfmd_get_solver(s, &solver));
+    CHECK(gfmd_get_surface(s, z1));
+    CHECK(gfmd_get_contact_area(s, &area_lib));
+    gfmd_sim_destroy(&s);
+    printf("n = %d, W = %g, gamma0 = %g, rho = %g, sigma0 %.4e -> %.4e (Persson's A/A0 %g -> %g), tol %g, one thread\n",
+           n, W, gam, rho_, sigma0, sigma1, area0, area1, tol);
+    printf("library: the first load %lld steps; the continuing load %lld steps, %.2f s (solver %d), A/A0 = %.6f\n",
+           (long long)steps0, (long long)steps1, t_lib, (int)solver, area_lib);
+
+    /* the stiffness on the half spectrum, and the stencil's scale c0: least squares in the relative
+     * error of c0 lambda^2 against k(q), lambda = 4 - 2 cos qx - 2 cos qy */
+    r2c = fftw_plan_dft_r2c_2d(n, n, trial, spec, FFTW_MEASURE);
+    c2r = fftw_plan_dft_c2r_2d(n, n, spec, gt, FFTW_MEASURE);
+    double s1 = 0.0, s2 = 0.0, lo = INFINITY, hi = 0.0;
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j <= n / 2; j++) {
+            const double qy = 2 * M_PI * (i <= n / 2 ? i : i - n) / n, qx = 2 * M_PI * j / n, q = hypot(qx, qy);
+            double f = 1.0;
+            if (q > 0 && gfmd_green_factor(GFMD_GREEN_LAYER_FLUID, q * 4.0 * W, 0.0, &f) != GFMD_OK) return 1;
+            const double k = q > 0 ? q / (2 * f) : 0.0, lam = 4 - 2 * cos(qx) - 2 * cos(qy);
+            kq[(size_t)i * (n / 2 + 1) + j] = k / (double)N;
+            if (q > 0) {
+                s1 += lam * lam / k;
+                s2 += (lam * lam / k) * (lam * lam / k);
+            }
+        }
+    c0 = s1 / s2;
+    for (size_t k = 1; k < nc; k++) {
+        const int i = (int)(k / (size_t)(n / 2 + 1)), j = (int)(k % (size_t)(n / 2 + 1));
+        const double qy = 2 * M_PI * (i <= n / 2 ? i : i - n) / n, qx = 2 * M_PI * j / n,
+                     lam = 4 - 2 * cos(qx) - 2 * cos(qy), ratio = c0 * lam * lam / (kq[k] * (double)N);
+        lo = fmin(lo, ratio), hi = fmax(hi, ratio);
+    }
+    /* the multigrid levels */
+    for (int m = n; m >= 16 && nl < MAXL; m /= 2) {
+        const size_t mm = (size_t)m * m;
+        level *L = &lv[nl];
+        L->m = m;
+        L->x = malloc(mm * sizeof(mgreal)), L->b = malloc(mm * sizeof(mgreal)), L->r = malloc(mm * sizeof(mgreal));
+        L->t = malloc(mm * sizeof(mgreal)), L->dinv = malloc(mm * sizeof(mgreal));
+        L->c = (m < n) ? malloc(mm * NC * sizeof(float)) : NULL;
+        dirty[nl] = calloc(mm, 1);
+        if (!L->x || !L->b || !L->r || !L->t || !L->dinv || (m < n && !L->c) || !dirty[nl]) {
+            fprintf(stderr, "stencil_newton: out of memory\n");
+            return 1;
+        }
+        nl++;
+    }
+    /* the bare pair, timed */
+    memcpy(trial, z0, N * sizeof(double));
+    int k_pair = 0;
+    t0 = now();
+    do {
+        fftw_execute_dft_r2c(r2c, trial, spec);
+        fftw_execute_dft_c2r(c2r, spec, gt);
+        k_pair++;
+    } while (now() - t0 < 0.5);
+    const double t_pair = (now() - t0) / k_pair;
+
+    sigma = sigma1;
+    const double scale = tol * (fabs(sigma1) + gam / rho_ + 1e-8);
+    int fail = 0;
+    printf("stencil c0 L^2, c0 = %.4e, its symbol %.2f-%.2f of k(q); V(%d,%d)-cycles on %d grids, l1-Jacobi\n", c0, lo,
+           hi, nu, nu, nl);
+    for (int k = 0; k < n_methods; k++) {
+        const int fire = methods[k] == 1, pcg = methods[k] == 2;
+        memcpy(u, z0, N * sizeof(double));
+        memset(held, 0, N);
+        pairs = 0, cycles = 0, t_cycles = 0.0;
+        long newton_steps = 0, cg_its = 0, trials = 0, rows = 0;
+        double t_assembly = 0.0, res = 0.0;
+        int first = 1;
+        /* FIRE's state (the library's control, fire_control.hpp: dt a fraction of the unit step
+         * 1/sqrt(lambda_max(V K_FF)), growing by 1.1 after 5 downhill steps, halved uphill) */
+        double *vel = d, lambda = 0.0, fdt = 0.5, alpha = 0.1;
+        long positive = 0;
+        memset(vel, 0, N * sizeof(double));
+        /* the projected CG's state: its direction (in vel) restarts after a step the wall stopped */
+        double rz_prev = 0.0;
+        int fresh = 1;
+        t0 = now();
+        double energy = gradient(u, g, e);
+        for (;;) {
+            double r2 = 0.0;
+            size_t count = 0;
+            for (size_t p = 0; p < N; p++) {
+                const int wall = u[p] - h[p] <= 0.0;
+                const double gp = wall ? fmin(g[p], 0.0) : g[p];
+                r2 += gp * gp;
+                was[p] = held[p];
+                held[p] = wall && g[p] >= 0.0;
+                if (!first && held[p] != was[p]) changed[count++] = p;
+            }
+            res = sqrt(r2 / (double)N);
+            if (res <= scale || newton_steps >= (fire || pcg ? 1000000 : 200)) break;
+            newton_steps++;
+            if (verbose)
+                fprintf(stderr, "%s step %ld: residual %.3e, %zu held points changed; %ld CG its, %ld trials so far\n",
+                        NAMES[methods[k]], newton_steps, res / scale * tol, count, cg_its, trials);
+            const double ta = now();
+            if (first || count > N / 16) {
+                mg_assemble();
+                rows += (long)N;
+            } else rows += (long)mg_update(changed, count, dirty);
+            t_assembly += now() - ta;
+            first = 0;
+            if (pcg) {
+                for (size_t p = 0; p < N; p++) r[p] = held[p] ? 0.0 : -g[p];
+                const mgreal *v = precondition(r);
+                double rz = 0.0;
+                for (size_t p = 0; p < N; p++) rz += r[p] * v[p];
+                rz /= c0;
+                const double beta = (fresh || count > 0 || !(rz_prev > 0)) ? 0.0 : rz / rz_prev;
+                double rt = 0.0;
+                for (size_t p = 0; p < N; p++) {
+                    vel[p] = held[p] ? 0.0 : v[p] / c0 + beta * vel[p];
+                    rt += r[p] * vel[p];
+                }
+                if (!(rt > 0)) {
+                    rt = rz;
+                    for (size_t p = 0; p < N; p++) vel[p] = held[p] ? 0.0 : v[p] / c0;
+                }
+                rz_prev = rz;
+                stiffness(vel, kp); /* t.K.t (the library: half a pair, by Parseval) */
+                double tkt = 0.0, tat = 0.0;
+                for (size_t p = 0; p < N; p++) {
+                    tkt += vel[p] * kp[p];
+                    if (gam > 0) tat += (gam / (rho_ * rho_)) * e[p] * vel[p] * vel[p];
+                }
+                double alpha = (tkt - tat > 0) ? rt / (tkt - tat) : rt / tkt;
+                size_t hits = 0;
+                for (;; alpha *= 0.5) {
+                    double predicted = 0.0;
+                    hits = 0;
+                    for (size_t p = 0; p < N; p++) {
+                        const double zn = u[p] + alpha * vel[p];
+                        hits += zn < h[p];
+                        trial[p] = fmax(h[p], zn);
+                        predicted += g[p] * (trial[p] - u[p]);
+                    }
+                    trials++;
+                    const double et_energy = gradient(trial, gt, et);
+                    /* a step the wall did not stop minimizes the quadratic energy along t: not checked
+                     * (as the library's); else Armijo's rule, with the energy's rounding as slack */
+                    if ((hits == 0 && gam == 0) || et_energy <= energy + 1e-4 * predicted + slack ||
+                        alpha < 1e-12) {
+                        swap(&u, &trial), swap(&g, &gt), swap(&e, &et); /* the trial's state taken */
+                        energy = et_energy;
+                        break;
+                    }
+                }
+                fresh = hits > 0;
+                continue;
+            }
+            if (fire) {
+                if (lambda == 0.0) { /* lambda_max(V K_FF) by 15 power iterations from a pseudo-random start */
+                    for (size_t p = 0; p < N; p++) pp[p] = held[p] ? 0.0 : sin(0.7 * (double)p) + 0.2;
+                    for (int it = 0; it < 15; it++) {
+                        stiffness(pp, kp);
+                        for (size_t p = 0; p < N; p++) kp[p] = held[p] ? 0.0 : kp[p];
+                        const mgreal *v = precondition(kp);
+                        double x2 = 0.0, y2 = 0.0;
+                        for (size_t p = 0; p < N; p++) {
+                            x2 += pp[p] * pp[p];
+                            pp[p] = v[p] / c0;
+                            y2 += pp[p] * pp[p];
+                        }
+                        lambda = sqrt(y2 / x2);
+                    }
+                }
+                double power = 0.0, v2 = 0.0;
+                for (size_t p = 0; p < N; p++) {
+                    power -= held[p] ? 0.0 : g[p] * vel[p];
+                    v2 += vel[p] * vel[p];
+                    r[p] = held[p] ? 0.0 : -g[p];
+                }
+                int uphill = 0;
+                if (power > 0) {
+                    if (++positive > 5) fdt = fmin(fdt * 1.1, 1.0), alpha *= 0.99;
+                } else positive = 0, fdt *= 0.5, alpha = 0.1, uphill = 1;
+                const mgreal *a = precondition(r);
+                double a2 = 0.0;
+                for (size_t p = 0; p < N; p++) a2 += (double)a[p] * a[p];
+                const double dt = fdt / sqrt(lambda), a_norm = sqrt(a2) / c0;
+                const double mix = (a_norm > 0 && !uphill) ? alpha * sqrt(v2) / a_norm : 0.0,
+                             keep = uphill ? 0.0 : 1.0 - alpha, back = uphill ? 0.5 * dt : 0.0;
+                for (size_t p = 0; p < N; p++) { /* the library's mass_update */
+                    const double ai = held[p] ? 0.0 : a[p] / c0, vi = keep * vel[p] + (mix + dt) * ai,
+                                 zn = u[p] - back * vel[p] + dt * vi;
+                    vel[p] = zn < h[p] ? 0.0 : vi;
+                    u[p] = zn < h[p] ? h[p] : zn;
+                }
+                energy = gradient(u, g, e);
+                continue;
+            }
+            /* CG on the free block from d = 0: r = -g_F */
+            for (size_t p = 0; p < N; p++) {
+                d[p] = 0.0;
+                r[p] = held[p] ? 0.0 : -g[p];
+            }
+            const double b0 = sqrt(dot(r, r, N));
+            const mgreal *v = precondition(r);
+            double rz = 0.0;
+            for (size_t p = 0; p < N; p++) {
+                pp[p] = v[p] / c0;
+                rz += r[p] * pp[p];
+            }
+            for (int it = 1; it <= 500; it++) {
+                cg_its++;
+                stiffness(pp, kp);
+                double pkp = 0.0;
+                for (size_t p = 0; p < N; p++) {
+                    if (held[p]) kp[p] = 0.0;
+                    else if (gam > 0 && curvature) kp[p] -= (gam / (rho_ * rho_)) * e[p] * pp[p];
+                    pkp += pp[p] * kp[p];
+                }
+                if (!(pkp > 0)) {
+                    if (it == 1) memcpy(d, pp, N * sizeof(double));
+                    break;
+                }
+                const double a = rz / pkp;
+                double rr = 0.0;
+                for (size_t p = 0; p < N; p++) {
+                    d[p] += a * pp[p];
+                    r[p] -= a * kp[p];
+                    rr += r[p] * r[p];
+                }
+                if (sqrt(rr) < cg_rtol * b0) break;
+                v = precondition(r);
+                double rz_new = 0.0;
+                for (size_t p = 0; p < N; p++) rz_new += r[p] * v[p];
+                rz_new /= c0;
+                const double beta = rz_new / rz;
+                rz = rz_new;
+                for (size_t p = 0; p < N; p++) pp[p] = v[p] / c0 + beta * pp[p];
+            }
+            /* the search along d, cut at the substrate */
+            for (double alpha = 1.0;; alpha *= 0.5) {
+                double predicted = 0.0;
+                for (size_t p = 0; p < N; p++) {
+                    trial[p] = fmax(h[p], u[p] + alpha * d[p]);
+                    predicted += g[p] * (trial[p] - u[p]);
+                }
+                trials++;
+                const double et_energy = gradient(trial, gt, et);
+                if (et_energy <= energy + 1e-4 * predicted + slack || alpha < 1e-6) {
+                    swap(&u, &trial), swap(&g, &gt), swap(&e, &et); /* the trial's state taken */
+                    energy = et_energy;
+                    break;
+                }
+            }
+        }
+        const double t_newton = now() - t0;
+        /* against the library's equilibrium */
+        size_t contacts = 0;
+        double dz = 0.0;
+        for (size_t p = 0; p < N; p++) {
+            contacts += u[p] - h[p] <= 0.0;
+            dz = fmax(dz, fabs(u[p] - z1[p]));
+        }
+        const double area = (double)contacts / (double)N;
+        printf("%s: %ld steps, %ld CG its, %ld line-search trials, %ld FFT pairs, %ld V-cycles, %ld rows assembled; "
+               "A/A0 = %.6f, max |z - z_library| = %.1e\n",
+               NAMES[methods[k]], newton_steps, cg_its, trials, pairs, cycles, rows, area, dz);
+        printf("  pair %.3e s; %s %.2f s = %.0f pairs (FFT pairs %.0f, cycles %.2f s = %.0f, assembly %.2f s = %.0f, "
+               "the rest %.0f); library %.2f s = %.0f pairs: %.2fx\n",
+               t_pair, NAMES[methods[k]], t_newton, t_newton / t_pair, (double)pairs, t_cycles, t_cycles / t_pair,
+               t_assembly,
+               t_assembly / t_pair, (t_newton - t_cycles - t_assembly) / t_pair - (double)pairs, t_lib, t_lib / t_pair,
+               t_lib / t_newton);
+        if (!(res <= scale))
+            fprintf(stderr, "stencil_newton: %s not converged (residual %g > %g)\n", NAMES[methods[k]], res, scale),
+                fail = 1;
+        if (!(fabs(area - area_lib) <= 1e-3 * area_lib))
+            fprintf(stderr, "stencil_newton: A/A0 %g against the library's %g\n", area, area_lib), fail = 1;
+        /* with adhesion the energy is not convex: two methods may stop in different local minima (at
+         * 2048^2, W = 0.088, the Newton method's surface differed from the library's by 0.77 a at
+         * one patch, A/A0 by 1e-5 relative), so there the surface is printed, not checked */
+        if (!(dz <= 1e-3) && gam == 0) fprintf(stderr, "stencil_newton: the surface differs by %g a\n", dz), fail = 1;
+    }
+    double *const arrays[] = {hh, u, z0, z1, g, e, d, r, pp, kp, trial, gt, et, kq};
+    for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; k++) fftw_free(arrays[k]);
+    fftw_free(spec);
+    fftw_destroy_plan(r2c);
+    fftw_destroy_plan(c2r);
+    fftw_cleanup();
+    for (int l = 0; l < nl; l++) free(dirty[l]);
+    mg_free();
+    free(held);
+    free(was);
+    free(changed);
+    return fail;
+}
