@@ -5,8 +5,9 @@
  *   coarse grids Galerkin operators P^T A P (bilinear P), 25 float coefficients a point, down to
  *                16^2, assembled row by row from the finer grid's operator (mg_assemble) and
  *                updated where the held set changed (mg_update);
- *   the cycle    V(nu, nu): damped Jacobi sweeps, the residual restricted, the cycle on the next
- *                grid, its correction prolonged; 40 sweeps on the coarsest grid.
+ *   the cycle    V(nu, nu): Jacobi sweeps (the weights in dinv: l1-Jacobi from mg_assemble, or
+ *                the caller's), the residual restricted, the cycle on the next grid, its
+ *                correction prolonged; 40 sweeps on the coarsest grid.
  * Sides are powers of 2 (>= 32 on the fine grid). */
 #ifndef GFMD_BENCH_STENCIL_MG_H
 #define GFMD_BENCH_STENCIL_MG_H
@@ -19,21 +20,7 @@
 #define CLONES __attribute__((target_clones("default", "arch=x86-64-v3")))
 #else
 #define CLONES
-/* every level's arrays freed (malloc'ed by the caller) */
-static inline void mg_free(void) {
-    for (int l = 0; l < nl; l++) {
-        free(lv[l].x);
-        free(lv[l].b);
-        free(lv[l].r);
-        free(lv[l].t);
-        free(lv[l].dinv);
-        free(lv[l].c);
-    }
-    nl = 0;
-}
-
 #endif
-
 
 enum { MAXL = 20, NC = 25 }; /* levels; coarse stencil 5 x 5 */
 /* the cycle's arithmetic: single precision (a preconditioner's rounding of 1e-7 against the
@@ -270,8 +257,8 @@ static inline size_t mg_update(const size_t *changed, size_t count, unsigned cha
                 if (l == 0) mg_fine_dinv(y, x);
                 else mg_row(l - 1, y, x);
                 if (l + 1 < nl) /* the rows of level l + 1 with |2I - (y, x)| <= 1 */
-                    for (int Y = (y - 1 + 1) / 2 - 1; Y <= (y + 1) / 2 + 1; Y++)
-                        for (int X = (x - 1 + 1) / 2 - 1; X <= (x + 1) / 2 + 1; X++)
+                    for (int Y = y / 2 - 1; Y <= (y + 1) / 2 + 1; Y++)
+                        for (int X = x / 2 - 1; X <= (x + 1) / 2 + 1; X++)
                             if (abs(2 * Y - y) <= 1 && abs(2 * X - x) <= 1)
                                 dirty[l + 1][(size_t)wrap(Y, ml / 2) * (ml / 2) + wrap(X, ml / 2)] = 1;
             }

@@ -15,7 +15,9 @@
  * in pairs, and the residual's reduction per cycle from a random right-hand side over 8 cycles;
  * then the same operators assembled directly, row by row (stencil_mg.h's mg_assemble, what
  * stencil_newton uses: it must agree with the probes), and the reduction with its l1-Jacobi
- * smoother instead of the damped one; the cycle is then timed with those.
+ * smoother instead of the damped one; then every 97th point flipped between held and free and the
+ * rows that depend on them recomputed (mg_update: it must equal a whole assembly, bit for bit);
+ * the cycle is then timed with those.
  * It fails (exit 1) unless every coarse operator equals P^T A P on a test vector (to the floats'
  * rounding), the direct rows equal the probes' and the cycle reduces the residual with either
  * smoother: colours that collide across the
@@ -240,6 +242,53 @@ int main(int argc, char **argv) {
         fprintf(stderr, "stencil_vcycle_timing: the cycle does not converge (%g, %g a cycle)\n", rate, rate_l1);
         return 1; /* the operating system frees the rest */
     }
+    /* the update: a hundredth of the points flipped (held <-> free, every 97th), the rows that
+     * depend on them recomputed (mg_update), and every level's operator and weights then equal,
+     * bit for bit, to a whole assembly's for the new held set (the same rows from the same inputs) */
+    unsigned char *dirty[MAXL] = {0};
+    size_t *flipped = malloc((N / 97 + 1) * sizeof(size_t)), count = 0;
+    float *kept_c[MAXL] = {0};
+    mgreal *kept_d[MAXL] = {0};
+    int bad = !flipped;
+    for (int l = 0; l < nl && !bad; l++) {
+        const size_t mm = (size_t)lv[l].m * lv[l].m;
+        dirty[l] = calloc(mm, 1);
+        kept_d[l] = malloc(mm * sizeof(mgreal));
+        kept_c[l] = l ? malloc(mm * NC * sizeof(float)) : NULL;
+        bad = !dirty[l] || !kept_d[l] || (l && !kept_c[l]);
+    }
+    if (bad) {
+        fprintf(stderr, "stencil_vcycle_timing: out of memory\n");
+        return 1;
+    }
+    for (size_t p = 0; p < N; p += 97) {
+        held[p] = !held[p];
+        flipped[count++] = p;
+    }
+    t0 = now();
+    const size_t rows = mg_update(flipped, count, dirty);
+    const double t_update = now() - t0;
+    for (int l = 0; l < nl; l++) {
+        const size_t mm = (size_t)lv[l].m * lv[l].m;
+        memcpy(kept_d[l], lv[l].dinv, mm * sizeof(mgreal));
+        if (l) memcpy(kept_c[l], lv[l].c, mm * NC * sizeof(float));
+    }
+    mg_assemble();
+    for (int l = 0; l < nl; l++) {
+        const size_t mm = (size_t)lv[l].m * lv[l].m;
+        if (memcmp(kept_d[l], lv[l].dinv, mm * sizeof(mgreal)) ||
+            (l && memcmp(kept_c[l], lv[l].c, mm * NC * sizeof(float)))) {
+            fprintf(stderr, "stencil_vcycle_timing: grid %d after the update differs from a whole assembly\n", l);
+            return 1;
+        }
+        free(dirty[l]);
+        free(kept_d[l]);
+        free(kept_c[l]);
+    }
+    free(flipped);
+    printf("update after %zu points flipped: %zu rows recomputed in %.3e s, equal to a whole assembly\n", count, rows,
+           t_update);
+    for (size_t p = 0; p < N; p++) bb[p] = held[p] ? 0.0f : bb[p];
     memcpy(lv[0].b, bb, N * sizeof(mgreal));
     for (int rep = 0; rep < reps; rep++) {
         int k = 0;
