@@ -21,7 +21,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "bench_clock.h"
+#include "pair_clock.h"
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #define CLONES __attribute__((target_clones("default", "arch=x86-64-v3")))
@@ -60,6 +60,27 @@ CLONES static void convert(const double *z, const double *zref, float *dz, const
                     size_t m) {
     for (size_t i = 0; i < m; i++) dz[i] = (float)(z[i] - zref[i]);
     for (size_t i = 0; i < m; i++) f[i] = kzref[i] + (double)kdz[i];
+}
+
+/* the parts timed beside the double pair: the float pair, and the two passes around it */
+typedef struct {
+    fftwf_plan r2c, c2r;
+    float *dz, *kdz;
+    fftwf_complex *spec;
+    const double *z, *zref, *kzref;
+    double *f;
+    size_t m;
+} float_parts;
+
+static void float_pair_run(void *ctx) {
+    const float_parts *p = (const float_parts *)ctx;
+    fftwf_execute_dft_r2c(p->r2c, p->dz, p->spec);
+    fftwf_execute_dft_c2r(p->c2r, p->spec, p->kdz);
+}
+
+static void convert_run(void *ctx) {
+    const float_parts *p = (const float_parts *)ctx;
+    convert(p->z, p->zref, p->dz, p->kzref, p->kdz, p->f, p->m);
 }
 
 int main(int argc, char **argv) {
@@ -110,24 +131,9 @@ int main(int argc, char **argv) {
     }
     for (int rep = 0; rep < reps; rep++) {
         /* each part repeated for at least half a second, the three alternating */
-        double t[3];
-        for (int part = 0; part < 3; part++) {
-            int k = 0;
-            const double t0 = now();
-            do {
-                if (part == 0) {
-                    fftw_execute_dft_r2c(r2c, z, c);
-                    fftw_execute_dft_c2r(c2r, c, back);
-                } else if (part == 1) {
-                    fftwf_execute_dft_r2c(r2cf, dz, cf);
-                    fftwf_execute_dft_c2r(c2rf, cf, kdz);
-                } else {
-                    convert(z, zref, dz, kzref, kdz, f, m);
-                }
-                k++;
-            } while (now() - t0 < 0.5);
-            t[part] = (now() - t0) / k;
-        }
+        float_parts parts = {r2cf, c2rf, dz, kdz, cf, z, zref, kzref, f, m};
+        const double t[3] = {pair_seconds(r2c, c2r, z, c, back), seconds_each(float_pair_run, &parts),
+                             seconds_each(convert_run, &parts)};
         printf("double pair %.3e s  float pair %.3e s  convert %.3e s  float %.2f pairs, with convert %.2f pairs\n",
                t[0], t[1], t[2], t[1] / t[0], (t[1] + t[2]) / t[0]);
     }

@@ -43,7 +43,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
-#include "bench_clock.h"
+#include "pair_clock.h"
 #include "stencil_mg.h"
 
 static int n;
@@ -73,9 +73,10 @@ static void stiffness(const double *x, double *y) {
     pairs++;
 }
 
-/* g = K u + sigma + (gamma0/rho) e, e = exp(-(u - h)/rho) (NULL without adhesion); returns the
- * energy 1/2 u.Ku + sigma sum u - gamma0 sum e */
 static double slack; /* the last energy's rounding: 1e-12 of the sum of its terms' magnitudes */
+
+/* g = K u + sigma + (gamma0/rho) e, e = exp(-(u - h)/rho) (NULL without adhesion); returns the
+ * energy 1/2 u.Ku + sigma sum u - gamma0 sum e and sets its slack */
 static double gradient(const double *u, double *g, double *e) {
     const size_t N = (size_t)n * n;
     stiffness(u, g);
@@ -226,7 +227,7 @@ int main(int argc, char **argv) {
      * error of c0 lambda^2 against k(q), lambda = 4 - 2 cos qx - 2 cos qy */
     r2c = fftw_plan_dft_r2c_2d(n, n, trial, spec, FFTW_MEASURE);
     c2r = fftw_plan_dft_c2r_2d(n, n, spec, gt, FFTW_MEASURE);
-    double s1 = 0.0, s2 = 0.0, lo = INFINITY, hi = 0.0;
+    double s1 = 0.0, s2 = 0.0, lo = INFINITY, hi = 0.0; /* lo, hi: the range of lambda^2 / k */
     for (int i = 0; i < n; i++)
         for (int j = 0; j <= n / 2; j++) {
             const double qy = 2 * M_PI * (i <= n / 2 ? i : i - n) / n, qx = 2 * M_PI * j / n, q = hypot(qx, qy);
@@ -235,17 +236,12 @@ int main(int argc, char **argv) {
             const double k = q > 0 ? q / (2 * f) : 0.0, lam = 4 - 2 * cos(qx) - 2 * cos(qy);
             kq[(size_t)i * (n / 2 + 1) + j] = k / (double)N;
             if (q > 0) {
-                s1 += lam * lam / k;
-                s2 += (lam * lam / k) * (lam * lam / k);
+                const double y = lam * lam / k;
+                s1 += y, s2 += y * y;
+                lo = fmin(lo, y), hi = fmax(hi, y);
             }
         }
-    c0 = s1 / s2;
-    for (size_t k = 1; k < nc; k++) {
-        const int i = (int)(k / (size_t)(n / 2 + 1)), j = (int)(k % (size_t)(n / 2 + 1));
-        const double qy = 2 * M_PI * (i <= n / 2 ? i : i - n) / n, qx = 2 * M_PI * j / n,
-                     lam = 4 - 2 * cos(qx) - 2 * cos(qy), ratio = c0 * lam * lam / (kq[k] * (double)N);
-        lo = fmin(lo, ratio), hi = fmax(hi, ratio);
-    }
+    c0 = s1 / s2; /* the stencil c0 L^2's symbol is then c0 lo .. c0 hi of k(q) */
     /* the multigrid levels */
     for (int m = n; m >= 16 && nl < MAXL; m /= 2) {
         const size_t mm = (size_t)m * m;
@@ -263,20 +259,13 @@ int main(int argc, char **argv) {
     }
     /* the bare pair, timed */
     memcpy(trial, z0, N * sizeof(double));
-    int k_pair = 0;
-    t0 = now();
-    do {
-        fftw_execute_dft_r2c(r2c, trial, spec);
-        fftw_execute_dft_c2r(c2r, spec, gt);
-        k_pair++;
-    } while (now() - t0 < 0.5);
-    const double t_pair = (now() - t0) / k_pair;
+    const double t_pair = pair_seconds(r2c, c2r, trial, spec, gt);
 
     sigma = sigma1;
     const double scale = tol * (fabs(sigma1) + gam / rho_ + 1e-8);
     int fail = 0;
-    printf("stencil c0 L^2, c0 = %.4e, its symbol %.2f-%.2f of k(q); V(%d,%d)-cycles on %d grids, l1-Jacobi\n", c0, lo,
-           hi, nu, nu, nl);
+    printf("stencil c0 L^2, c0 = %.4e, its symbol %.2f-%.2f of k(q); V(%d,%d)-cycles on %d grids, l1-Jacobi\n", c0,
+           c0 * lo, c0 * hi, nu, nu, nl);
     for (int k = 0; k < n_methods; k++) {
         const int fire = methods[k] == 1, pcg = methods[k] == 2;
         memcpy(u, z0, N * sizeof(double));

@@ -35,7 +35,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "bench_clock.h"
+#include "pair_clock.h"
 
 #include "stencil_mg.h"
 
@@ -92,6 +92,11 @@ static void galerkin(int l) {
         lv[l + 1].dinv[p] = d > 0 ? 1.0 / d : 0.0;
     }
     damp(l + 1);
+}
+
+static void run_cycle(void *unused) {
+    (void)unused;
+    cycle(0);
 }
 
 /* the residual's reduction a cycle of A x = b over 8 cycles used as a stationary iteration
@@ -291,21 +296,7 @@ int main(int argc, char **argv) {
     for (size_t p = 0; p < N; p++) bb[p] = held[p] ? 0.0f : bb[p];
     memcpy(lv[0].b, bb, N * sizeof(mgreal));
     for (int rep = 0; rep < reps; rep++) {
-        int k = 0;
-        t0 = now();
-        do {
-            fftw_execute_dft_r2c(r2c, fx, fc); /* out of place, as the library's step */
-            fftw_execute_dft_c2r(c2r, fc, fy);
-            k++;
-        } while (now() - t0 < 0.5);
-        const double t_pair = (now() - t0) / k;
-        k = 0;
-        t0 = now();
-        do {
-            cycle(0);
-            k++;
-        } while (now() - t0 < 0.5);
-        const double t_cycle = (now() - t0) / k;
+        const double t_pair = pair_seconds(r2c, c2r, fx, fc, fy), t_cycle = seconds_each(run_cycle, NULL);
         printf("pair %.3e s  V-cycle %.3e s = %.2f pairs  Galerkin assembly %.3e s = %.2f pairs, direct %.2f pairs\n",
                t_pair, t_cycle, t_cycle / t_pair, t_assembly, t_assembly / t_pair, t_direct / t_pair);
     }
