@@ -189,6 +189,14 @@ static inline void mg_fine_dinv(int y, int x) {
     lv[0].dinv[(size_t)y * m + x] = (mgreal)(s > 0 ? 1.0 / s : 0.0);
 }
 
+/* a fine point j - 2I = r (-3..3, in one direction) spread to the coarse offsets P gives it: r/2
+ * with weight 1 if r is even, (r -+ 1)/2 with weight 1/2 each if odd; indexed by r + 3 */
+static const struct {
+    int count, to[2];
+    double weight;
+} SPREAD[7] = {{2, {-2, -1}, 0.5}, {1, {-1, 0}, 1.0}, {2, {-1, 0}, 0.5}, {1, {0, 0}, 1.0},
+               {2, {0, 1}, 0.5},   {1, {1, 0}, 1.0},  {2, {1, 2}, 0.5}};
+
 /* row (Y, X) of level l + 1's operator, P^T A_l P, and its l1-Jacobi weight: fine points 2Y + a
  * (a = -1, 0, 1, weights 1/2, 1, 1/2 in each direction), their neighbours j = 2Y + a + d (d =
  * -2..2) spread to the coarse points (j +- 1) / 2 or j / 2 (weights 1/2 or 1): offsets -2..2 */
@@ -204,16 +212,11 @@ static void mg_row(int l, int Y, int X) {
                 for (int dx = -2; dx <= 2; dx++) {
                     const double v = mg_entry(l, y, x, dy, dx);
                     if (v == 0.0) continue;
-                    const int ry = a + dy, rx = b + dx; /* j - 2I, in -3..3 */
-                    for (int sy = 0; sy < 2; sy++) {
-                        if (sy && !(ry & 1)) break;
-                        const int Dy = (ry & 1) ? (ry - 1) / 2 + sy : ry / 2;
-                        for (int sx = 0; sx < 2; sx++) {
-                            if (sx && !(rx & 1)) break;
-                            const int Dx = (rx & 1) ? (rx - 1) / 2 + sx : rx / 2;
-                            acc[(Dy + 2) * 5 + Dx + 2] += wi * v * ((ry & 1) ? 0.5 : 1.0) * ((rx & 1) ? 0.5 : 1.0);
-                        }
-                    }
+                    const int ry = a + dy + 3, rx = b + dx + 3; /* j - 2I + 3, in 0..6 */
+                    for (int sy = 0; sy < SPREAD[ry].count; sy++)
+                        for (int sx = 0; sx < SPREAD[rx].count; sx++)
+                            acc[(SPREAD[ry].to[sy] + 2) * 5 + SPREAD[rx].to[sx] + 2] +=
+                                wi * v * SPREAD[ry].weight * SPREAD[rx].weight;
                 }
         }
     double s = 0.0;
