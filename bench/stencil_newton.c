@@ -28,6 +28,12 @@
  * 1/sqrt(lambda_max(V K_FF)) by 15 power iterations, counted) and the library's projected surface
  * CG (cg.hpp) with the cycle as its preconditioner (pcg: a t.K.t pair counted where the library
  * spends half one); --no-curvature drops the adhesive curvature from the Newton method's matrix.
+ * --trust R0,RMIN keeps the Newton method's CG within a trust region, max |d| <= radius over the free
+ * points (Steihaug's CG: stopped where its next iterate would leave it, and at non-positive curvature
+ * stepped along that direction, downhill for the model, to its edge), the radius R0 rho at first,
+ * doubled after a full step to the edge, else the search's accepted step but at least RMIN rho: where
+ * the sheet sags near the wall the model is poor and the CG's iterate, grown along its softest
+ * directions, left the search 1e-2-1e-4 of it; rho is the scale on which the adhesive law changes.
  * The cycle runs in single precision (stencil_mg.h).
  * It prints each method's time beside the library's, its parts (FFT pairs, cycles, assembly) in
  * bare pairs of the same run, and fails (exit 1) unless each meets the criterion and its contact
@@ -36,7 +42,7 @@
  * ~1e-4 a).
  *
  *   stencil_newton [--n N] [--W W] [--areas A0,A1] [--gamma0 G --rho R] [--nu S] [--tol T]
- *                  [--levels L] [--methods M,..] [--no-curvature] [--rtol R] [--verbose]
+ *                  [--levels L] [--methods M,..] [--no-curvature] [--rtol R] [--trust R0,RMIN] [--verbose]
  *                  (defaults 2048, 0.088, 0.004,0.008, no adhesion, 1, 1e-6, 4, newton, 0.1) */
 #include <fftw3.h>
 #include <gfmd.h>
@@ -59,6 +65,19 @@ static const char *const NAMES[] = {"newton", "fire", "pcg"};
 static int verbose = 0;     /* --verbose: a line a step on stderr */
 static double cg_rtol = 0.1; /* the Newton method's CG: to this fraction of its right-hand side (--rtol) */
 static int curvature = 1; /* the adhesive law's curvature in the Newton method's matrix (--no-curvature: 0) */
+/* --trust R0,RMIN: the CG's iterate kept within max |d| <= radius, radius from R0 rho, never below RMIN rho
+ * (0: off) */
+static double trust = 0.0, trust_min = 0.0;
+
+/* the largest t >= 0 with max |d + t s| <= radius on the free points (|d| <= radius there) */
+static double to_boundary(const double *d, const double *s, const unsigned char *held_, size_t N, double radius) {
+    double t = INFINITY;
+    for (size_t p = 0; p < N; p++) {
+        if (held_[p] || s[p] == 0.0) continue;
+        t = fmin(t, s[p] > 0 ? (radius - d[p]) / s[p] : (radius + d[p]) / -s[p]);
+    }
+    return fmax(t, 0.0);
+}
 static const double *h;   /* the substrate */
 
 /* y = K x (x and y may not alias: out of place as the library's step) */
@@ -126,7 +145,7 @@ static const mgreal *precondition(const double *r) {
 static void usage(const char *name) {
     fprintf(stderr,
             "usage: %s [--n N] [--W W] [--areas A0,A1] [--gamma0 G --rho R] [--nu S] [--tol T] [--levels L]\n"
-            "       [--methods newton,fire,pcg] [--no-curvature] [--rtol R] [--verbose]\n",
+            "       [--methods newton,fire,pcg] [--no-curvature] [--rtol R] [--trust R0,RMIN] [--verbose]\n",
             name);
     exit(2);
 }
@@ -156,6 +175,9 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--tol") && i + 1 < argc) tol = atof(argv[++i]);
         else if (!strcmp(argv[i], "--levels") && i + 1 < argc) levels = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--no-curvature")) curvature = 0;
+        else if (!strcmp(argv[i], "--trust") && i + 1 < argc) {
+            if (sscanf(argv[++i], "%lf,%lf", &trust, &trust_min) != 2) usage(argv[0]);
+        }
         else if (!strcmp(argv[i], "--rtol") && i + 1 < argc) cg_rtol = atof(argv[++i]);
         else if (!strcmp(argv[i], "--verbose")) verbose = 1;
         else if (!strcmp(argv[i], "--methods") && i + 1 < argc) {
@@ -170,7 +192,8 @@ int main(int argc, char **argv) {
         else usage(argv[0]);
     }
     if (n < 32 || (n & (n - 1)) || !(W > 0) || !(area0 > 0 && area0 < area1 && area1 < 1) || !(gam >= 0) ||
-        !(rho_ > 0) || nu < 1 || nu > 8 || !(tol > 0) || !(cg_rtol > 0 && cg_rtol < 1) || levels < 1 || levels > 8) {
+        !(rho_ > 0) || nu < 1 || nu > 8 || !(tol > 0) || !(cg_rtol > 0 && cg_rtol < 1) || levels < 1 || levels > 8 ||
+        !(trust >= 0 && trust_min >= 0 && trust_min <= trust)) {
         fprintf(stderr, "stencil_newton: N a power of 2 >= 32, W > 0, 0 < A0 < A1 < 1, G >= 0, R > 0, 1 <= S <= 8, "
                         "T > 0, 0 < R < 1, 1 <= L <= 8\n");
         return 2;
@@ -271,7 +294,8 @@ int main(int argc, char **argv) {
         memcpy(u, z0, N * sizeof(double));
         memset(held, 0, N);
         pairs = 0, cycles = 0, t_cycles = 0.0;
-        long newton_steps = 0, cg_its = 0, trials = 0, rows = 0;
+        long newton_steps = 0, cg_its = 0, trials = 0, rows = 0, edges = 0, negatives = 0;
+        double radius = trust * rho_;
         double t_assembly = 0.0, res = 0.0;
         int first = 1;
         /* FIRE's state (the library's control, fire_control.hpp: dt a fraction of the unit step
@@ -398,6 +422,7 @@ int main(int argc, char **argv) {
                 continue;
             }
             /* CG on the free block from d = 0: r = -g_F */
+            int boundary = 0, negative = 0;
             for (size_t p = 0; p < N; p++) {
                 d[p] = 0.0;
                 r[p] = held[p] ? 0.0 : -g[p];
@@ -419,10 +444,24 @@ int main(int argc, char **argv) {
                     pkp += pp[p] * kp[p];
                 }
                 if (!(pkp > 0)) {
-                    if (it == 1) memcpy(d, pp, N * sizeof(double));
+                    if (trust > 0) { /* Steihaug: to the boundary along pp, downhill for the model */
+                        const double sgn = dot(r, pp, N) >= 0 ? 1.0 : -1.0;
+                        for (size_t p = 0; p < N; p++) kp[p] = sgn * pp[p];
+                        const double t = to_boundary(d, kp, held, N, radius);
+                        for (size_t p = 0; p < N; p++) d[p] += t * kp[p];
+                        boundary = negative = 1;
+                    } else if (it == 1) memcpy(d, pp, N * sizeof(double));
                     break;
                 }
                 const double a = rz / pkp;
+                if (trust > 0) {
+                    const double t = to_boundary(d, pp, held, N, radius);
+                    if (a > t) {
+                        for (size_t p = 0; p < N; p++) d[p] += t * pp[p];
+                        boundary = 1;
+                        break;
+                    }
+                }
                 double rr = 0.0;
                 for (size_t p = 0; p < N; p++) {
                     d[p] += a * pp[p];
@@ -448,6 +487,17 @@ int main(int argc, char **argv) {
                 trials++;
                 const double et_energy = gradient(trial, gt, et);
                 if (et_energy <= energy + 1e-4 * predicted + slack || alpha < 1e-6) {
+                    if (verbose)
+                        fprintf(stderr, "  alpha %.3g, energy %.6e -> %.6e, predicted %.3e%s%s, radius %.3g\n", alpha,
+                                energy, et_energy, predicted, negative ? ", negative curvature" : "",
+                                boundary ? ", at the boundary" : "", radius);
+                    edges += boundary, negatives += negative;
+                    if (trust > 0) { /* the radius: doubled after a full step to it, else the step taken */
+                        double dmax = 0.0;
+                        for (size_t p = 0; p < N; p++) dmax = fmax(dmax, fabs(d[p]));
+                        if (alpha == 1.0 && boundary) radius *= 2.0;
+                        else if (alpha < 1.0) radius = fmax(alpha * dmax, trust_min * rho_);
+                    }
                     swap(&u, &trial), swap(&g, &gt), swap(&e, &et); /* the trial's state taken */
                     energy = et_energy;
                     break;
@@ -466,6 +516,8 @@ int main(int argc, char **argv) {
         printf("%s: %ld steps, %ld CG its, %ld line-search trials, %ld FFT pairs, %ld V-cycles, %ld rows assembled; "
                "A/A0 = %.6f, max |z - z_library| = %.1e\n",
                NAMES[methods[k]], newton_steps, cg_its, trials, pairs, cycles, rows, area, dz);
+        if (trust > 0 && methods[k] == 0)
+            printf("  %ld steps at the trust region's edge, %ld of them at non-positive curvature\n", edges, negatives);
         printf("  pair %.3e s; %s %.2f s = %.0f pairs (FFT pairs %.0f, cycles %.2f s = %.0f, assembly %.2f s = %.0f, "
                "the rest %.0f); library %.2f s = %.0f pairs: %.2fx\n",
                t_pair, NAMES[methods[k]], t_newton, t_newton / t_pair, (double)pairs, t_cycles, t_cycles / t_pair,
