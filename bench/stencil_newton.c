@@ -142,6 +142,71 @@ static const mgreal *precondition(const double *r) {
     return lv[0].x;
 }
 
+/* The Newton step d: CG on (K - (gamma0/rho^2) e)_FF d = -g_F from d = 0, preconditioned by the
+ * cycle, to cg_rtol of its right-hand side, at most 500 iterations, stopped at non-positive
+ * curvature (d the first direction if it came first); with radius > 0 Steihaug's: stopped where the
+ * next iterate would leave max |d| <= radius (*edge = 1) and at non-positive curvature stepped along
+ * it, downhill for the model, to that edge (*edge = *negative = 1).  r, pp, kp: scratch.  Returns
+ * the CG iterations. */
+static long newton_direction(const double *g, const double *e, double radius, double *d, double *r, double *pp,
+                             double *kp, int *edge, int *negative) {
+    const size_t N = (size_t)n * n;
+    for (size_t p = 0; p < N; p++) {
+        d[p] = 0.0;
+        r[p] = held[p] ? 0.0 : -g[p];
+    }
+    const double b0 = sqrt(dot(r, r, N));
+    const mgreal *v = precondition(r);
+    double rz = 0.0;
+    for (size_t p = 0; p < N; p++) {
+        pp[p] = v[p] / c0;
+        rz += r[p] * pp[p];
+    }
+    for (int it = 1; it <= 500; it++) {
+        stiffness(pp, kp);
+        double pkp = 0.0;
+        for (size_t p = 0; p < N; p++) {
+            if (held[p]) kp[p] = 0.0;
+            else if (gam > 0 && curvature) kp[p] -= (gam / (rho_ * rho_)) * e[p] * pp[p];
+            pkp += pp[p] * kp[p];
+        }
+        if (!(pkp > 0)) {
+            if (radius > 0) {
+                const double sgn = dot(r, pp, N) >= 0 ? 1.0 : -1.0;
+                for (size_t p = 0; p < N; p++) kp[p] = sgn * pp[p];
+                const double t = to_boundary(d, kp, held, N, radius);
+                for (size_t p = 0; p < N; p++) d[p] += t * kp[p];
+                *edge = *negative = 1;
+            } else if (it == 1) memcpy(d, pp, N * sizeof(double));
+            return it;
+        }
+        const double a = rz / pkp;
+        if (radius > 0) {
+            const double t = to_boundary(d, pp, held, N, radius);
+            if (a > t) {
+                for (size_t p = 0; p < N; p++) d[p] += t * pp[p];
+                *edge = 1;
+                return it;
+            }
+        }
+        double rr = 0.0;
+        for (size_t p = 0; p < N; p++) {
+            d[p] += a * pp[p];
+            r[p] -= a * kp[p];
+            rr += r[p] * r[p];
+        }
+        if (sqrt(rr) < cg_rtol * b0) return it;
+        v = precondition(r);
+        double rz_new = 0.0;
+        for (size_t p = 0; p < N; p++) rz_new += r[p] * v[p];
+        rz_new /= c0;
+        const double beta = rz_new / rz;
+        rz = rz_new;
+        for (size_t p = 0; p < N; p++) pp[p] = v[p] / c0 + beta * pp[p];
+    }
+    return 500;
+}
+
 static void usage(const char *name) {
     fprintf(stderr,
             "usage: %s [--n N] [--W W] [--areas A0,A1] [--gamma0 G --rho R] [--nu S] [--tol T] [--levels L]\n"
@@ -421,65 +486,13 @@ int main(int argc, char **argv) {
                 energy = gradient(u, g, e);
                 continue;
             }
-            /* CG on the free block from d = 0: r = -g_F */
             int boundary = 0, negative = 0;
-            for (size_t p = 0; p < N; p++) {
-                d[p] = 0.0;
-                r[p] = held[p] ? 0.0 : -g[p];
-            }
-            const double b0 = sqrt(dot(r, r, N));
-            const mgreal *v = precondition(r);
-            double rz = 0.0;
-            for (size_t p = 0; p < N; p++) {
-                pp[p] = v[p] / c0;
-                rz += r[p] * pp[p];
-            }
-            for (int it = 1; it <= 500; it++) {
-                cg_its++;
-                stiffness(pp, kp);
-                double pkp = 0.0;
-                for (size_t p = 0; p < N; p++) {
-                    if (held[p]) kp[p] = 0.0;
-                    else if (gam > 0 && curvature) kp[p] -= (gam / (rho_ * rho_)) * e[p] * pp[p];
-                    pkp += pp[p] * kp[p];
-                }
-                if (!(pkp > 0)) {
-                    if (trust > 0) { /* Steihaug: to the boundary along pp, downhill for the model */
-                        const double sgn = dot(r, pp, N) >= 0 ? 1.0 : -1.0;
-                        for (size_t p = 0; p < N; p++) kp[p] = sgn * pp[p];
-                        const double t = to_boundary(d, kp, held, N, radius);
-                        for (size_t p = 0; p < N; p++) d[p] += t * kp[p];
-                        boundary = negative = 1;
-                    } else if (it == 1) memcpy(d, pp, N * sizeof(double));
-                    break;
-                }
-                const double a = rz / pkp;
-                if (trust > 0) {
-                    const double t = to_boundary(d, pp, held, N, radius);
-                    if (a > t) {
-                        for (size_t p = 0; p < N; p++) d[p] += t * pp[p];
-                        boundary = 1;
-                        break;
-                    }
-                }
-                double rr = 0.0;
-                for (size_t p = 0; p < N; p++) {
-                    d[p] += a * pp[p];
-                    r[p] -= a * kp[p];
-                    rr += r[p] * r[p];
-                }
-                if (sqrt(rr) < cg_rtol * b0) break;
-                v = precondition(r);
-                double rz_new = 0.0;
-                for (size_t p = 0; p < N; p++) rz_new += r[p] * v[p];
-                rz_new /= c0;
-                const double beta = rz_new / rz;
-                rz = rz_new;
-                for (size_t p = 0; p < N; p++) pp[p] = v[p] / c0 + beta * pp[p];
-            }
+            cg_its += newton_direction(g, e, trust > 0 ? radius : 0.0, d, r, pp, kp, &boundary, &negative);
             /* the search along d, cut at the substrate */
-            for (double alpha = 1.0;; alpha *= 0.5) {
-                double predicted = 0.0;
+            const double before = energy;
+            double alpha = 1.0, predicted = 0.0;
+            for (;; alpha *= 0.5) {
+                predicted = 0.0;
                 for (size_t p = 0; p < N; p++) {
                     trial[p] = fmax(h[p], u[p] + alpha * d[p]);
                     predicted += g[p] * (trial[p] - u[p]);
@@ -487,21 +500,21 @@ int main(int argc, char **argv) {
                 trials++;
                 const double et_energy = gradient(trial, gt, et);
                 if (et_energy <= energy + 1e-4 * predicted + slack || alpha < 1e-6) {
-                    if (verbose)
-                        fprintf(stderr, "  alpha %.3g, energy %.6e -> %.6e, predicted %.3e%s%s, radius %.3g\n", alpha,
-                                energy, et_energy, predicted, negative ? ", negative curvature" : "",
-                                boundary ? ", at the boundary" : "", radius);
-                    edges += boundary, negatives += negative;
-                    if (trust > 0) { /* the radius: doubled after a full step to it, else the step taken */
-                        double dmax = 0.0;
-                        for (size_t p = 0; p < N; p++) dmax = fmax(dmax, fabs(d[p]));
-                        if (alpha == 1.0 && boundary) radius *= 2.0;
-                        else if (alpha < 1.0) radius = fmax(alpha * dmax, trust_min * rho_);
-                    }
                     swap(&u, &trial), swap(&g, &gt), swap(&e, &et); /* the trial's state taken */
                     energy = et_energy;
                     break;
                 }
+            }
+            if (verbose)
+                fprintf(stderr, "  alpha %.3g, energy %.6e -> %.6e, predicted %.3e%s%s, radius %.3g\n", alpha, before,
+                        energy, predicted, negative ? ", negative curvature" : "", boundary ? ", at the edge" : "",
+                        radius);
+            edges += boundary, negatives += negative;
+            if (trust > 0) { /* the radius: doubled after a full step to its edge, else the step taken */
+                double dmax = 0.0;
+                for (size_t p = 0; p < N; p++) dmax = fmax(dmax, fabs(d[p]));
+                if (alpha == 1.0 && boundary) radius *= 2.0;
+                else if (alpha < 1.0) radius = fmax(alpha * dmax, trust_min * rho_);
             }
         }
         const double t_newton = now() - t0;
