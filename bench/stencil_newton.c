@@ -68,16 +68,6 @@ static int curvature = 1; /* the adhesive law's curvature in the Newton method's
 /* --trust R0,RMIN: the CG's iterate kept within max |d| <= radius, radius from R0 rho, never below RMIN rho
  * (0: off) */
 static double trust = 0.0, trust_min = 0.0;
-
-/* the largest t >= 0 with max |d + t s| <= radius on the free points (|d| <= radius there) */
-static double to_boundary(const double *d, const double *s, const unsigned char *held_, size_t N, double radius) {
-    double t = INFINITY;
-    for (size_t p = 0; p < N; p++) {
-        if (held_[p] || s[p] == 0.0) continue;
-        t = fmin(t, s[p] > 0 ? (radius - d[p]) / s[p] : (radius + d[p]) / -s[p]);
-    }
-    return fmax(t, 0.0);
-}
 static const double *h;   /* the substrate */
 
 /* y = K x (x and y may not alias: out of place as the library's step) */
@@ -142,6 +132,18 @@ static const mgreal *precondition(const double *r) {
     return lv[0].x;
 }
 
+/* the largest t >= 0 with max |d + t s| <= radius on the free points (|d| <= radius there); 0 if s
+ * is 0 on all of them */
+static double to_boundary(const double *d, const double *s, double radius) {
+    const size_t N = (size_t)n * n;
+    double t = INFINITY;
+    for (size_t p = 0; p < N; p++) {
+        if (held[p] || s[p] == 0.0) continue;
+        t = fmin(t, s[p] > 0 ? (radius - d[p]) / s[p] : (radius + d[p]) / -s[p]);
+    }
+    return isfinite(t) ? fmax(t, 0.0) : 0.0;
+}
+
 /* The Newton step d: CG on (K - (gamma0/rho^2) e)_FF d = -g_F from d = 0, preconditioned by the
  * cycle, to cg_rtol of its right-hand side, at most 500 iterations, stopped at non-positive
  * curvature (d the first direction if it came first); with radius > 0 Steihaug's: stopped where the
@@ -174,7 +176,7 @@ static long newton_direction(const double *g, const double *e, double radius, do
             if (radius > 0) {
                 const double sgn = dot(r, pp, N) >= 0 ? 1.0 : -1.0;
                 for (size_t p = 0; p < N; p++) kp[p] = sgn * pp[p];
-                const double t = to_boundary(d, kp, held, N, radius);
+                const double t = to_boundary(d, kp, radius);
                 for (size_t p = 0; p < N; p++) d[p] += t * kp[p];
                 *edge = *negative = 1;
             } else if (it == 1) memcpy(d, pp, N * sizeof(double));
@@ -182,7 +184,7 @@ static long newton_direction(const double *g, const double *e, double radius, do
         }
         const double a = rz / pkp;
         if (radius > 0) {
-            const double t = to_boundary(d, pp, held, N, radius);
+            const double t = to_boundary(d, pp, radius);
             if (a > t) {
                 for (size_t p = 0; p < N; p++) d[p] += t * pp[p];
                 *edge = 1;
@@ -260,7 +262,7 @@ int main(int argc, char **argv) {
         !(rho_ > 0) || nu < 1 || nu > 8 || !(tol > 0) || !(cg_rtol > 0 && cg_rtol < 1) || levels < 1 || levels > 8 ||
         !(trust >= 0 && trust_min >= 0 && trust_min <= trust)) {
         fprintf(stderr, "stencil_newton: N a power of 2 >= 32, W > 0, 0 < A0 < A1 < 1, G >= 0, R > 0, 1 <= S <= 8, "
-                        "T > 0, 0 < R < 1, 1 <= L <= 8\n");
+                        "T > 0, 0 < R < 1, 1 <= L <= 8, 0 <= RMIN <= R0\n");
         return 2;
     }
     const size_t N = (size_t)n * n, nc = (size_t)n * (n / 2 + 1);
