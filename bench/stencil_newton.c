@@ -110,12 +110,6 @@ static double gradient(const double *u, double *g, double *e) {
     return energy;
 }
 
-static void swap(double **a, double **b) {
-    double *t = *a;
-    *a = *b;
-    *b = t;
-}
-
 static double dot(const double *a, const double *b, size_t N) {
     double s = 0.0;
     for (size_t p = 0; p < N; p++) s += a[p] * b[p];
@@ -135,6 +129,38 @@ static const mgreal *precondition(const double *r) {
     cycles++;
     t_cycles += now() - t0;
     return lv[0].x;
+}
+
+/* a surface u with its energy's gradient g and the adhesive law's factors e (gradient()) */
+typedef struct {
+    double *u, *g, *e;
+} surface;
+
+/* The projected search along t from *cur: the trial max(h, u + alpha t) for alpha = alpha0, alpha0/2,
+ * ..., taken (its state swapped with *cur's) once the energy falls by 1e-4 of the gradient's
+ * prediction, the energy's rounding as slack, or once alpha < alpha_min, or at once where no point
+ * met the wall and unstopped is set.  Every trial costs an FFT pair (counted in *trials).  Returns
+ * the alpha taken; *hits the points the wall stopped and *predicted the prediction, at that alpha. */
+static double search(surface *cur, surface *tri, const double *t, double alpha0, double alpha_min, int unstopped,
+                     double *energy, long *trials, size_t *hits, double *predicted) {
+    const size_t N = (size_t)n * n;
+    for (double alpha = alpha0;; alpha *= 0.5) {
+        *predicted = 0.0, *hits = 0;
+        for (size_t p = 0; p < N; p++) {
+            const double zn = cur->u[p] + alpha * t[p];
+            *hits += zn < h[p];
+            tri->u[p] = fmax(h[p], zn);
+            *predicted += cur->g[p] * (tri->u[p] - cur->u[p]);
+        }
+        ++*trials;
+        const double e_trial = gradient(tri->u, tri->g, tri->e);
+        if ((*hits == 0 && unstopped) || e_trial <= *energy + 1e-4 * *predicted + slack || alpha < alpha_min) {
+            const surface taken = *tri;
+            *tri = *cur, *cur = taken;
+            *energy = e_trial;
+            return alpha;
+        }
+    }
 }
 
 /* the largest t >= 0 with max |d + t s| <= radius on the free points (|d| <= radius there); 0 if s
@@ -377,9 +403,10 @@ int main(int argc, char **argv) {
     int fail = 0;
     printf("stencil c0 L^2, c0 = %.4e, its symbol %.2f-%.2f of k(q); V(%d,%d)-cycles on %d grids, l1-Jacobi\n", c0,
            c0 * lo, c0 * hi, nu, nu, nl);
+    surface cur = {u, g, e}, tri = {trial, gt, et};
     for (int k = 0; k < n_methods; k++) {
         const int fire = methods[k] == 1, pcg = methods[k] == 2;
-        memcpy(u, start, N * sizeof(double));
+        memcpy(cur.u, start, N * sizeof(double));
         memset(held, 0, N);
         pairs = 0, cycles = 0, t_cycles = 0.0;
         long newton_steps = 0, cg_its = 0, trials = 0, rows = 0, edges = 0, negatives = 0;
@@ -395,16 +422,16 @@ int main(int argc, char **argv) {
         double rz_prev = 0.0;
         int fresh = 1;
         t0 = now();
-        double energy = gradient(u, g, e);
+        double energy = gradient(cur.u, cur.g, cur.e);
         for (;;) {
             double r2 = 0.0;
             size_t count = 0;
             for (size_t p = 0; p < N; p++) {
-                const int wall = u[p] - h[p] <= 0.0;
-                const double gp = wall ? fmin(g[p], 0.0) : g[p];
+                const int wall = cur.u[p] - h[p] <= 0.0;
+                const double gp = wall ? fmin(cur.g[p], 0.0) : cur.g[p];
                 r2 += gp * gp;
                 was[p] = held[p];
-                held[p] = wall && g[p] >= 0.0;
+                held[p] = wall && cur.g[p] >= 0.0;
                 if (!first && held[p] != was[p]) changed[count++] = p;
             }
             res = sqrt(r2 / (double)N);
@@ -421,7 +448,7 @@ int main(int argc, char **argv) {
             t_assembly += now() - ta;
             first = 0;
             if (pcg) {
-                for (size_t p = 0; p < N; p++) r[p] = held[p] ? 0.0 : -g[p];
+                for (size_t p = 0; p < N; p++) r[p] = held[p] ? 0.0 : -cur.g[p];
                 const mgreal *v = precondition(r);
                 double rz = 0.0;
                 for (size_t p = 0; p < N; p++) rz += r[p] * v[p];
@@ -441,30 +468,14 @@ int main(int argc, char **argv) {
                 double tkt = 0.0, tat = 0.0;
                 for (size_t p = 0; p < N; p++) {
                     tkt += vel[p] * kp[p];
-                    if (gam > 0) tat += (gam / (rho_ * rho_)) * e[p] * vel[p] * vel[p];
+                    if (gam > 0) tat += (gam / (rho_ * rho_)) * cur.e[p] * vel[p] * vel[p];
                 }
-                double alpha = (tkt - tat > 0) ? rt / (tkt - tat) : rt / tkt;
+                /* a step the wall did not stop minimizes the quadratic energy along t: not checked (as the
+                 * library's) */
                 size_t hits = 0;
-                for (;; alpha *= 0.5) {
-                    double predicted = 0.0;
-                    hits = 0;
-                    for (size_t p = 0; p < N; p++) {
-                        const double zn = u[p] + alpha * vel[p];
-                        hits += zn < h[p];
-                        trial[p] = fmax(h[p], zn);
-                        predicted += g[p] * (trial[p] - u[p]);
-                    }
-                    trials++;
-                    const double et_energy = gradient(trial, gt, et);
-                    /* a step the wall did not stop minimizes the quadratic energy along t: not checked
-                     * (as the library's); else Armijo's rule, with the energy's rounding as slack */
-                    if ((hits == 0 && gam == 0) || et_energy <= energy + 1e-4 * predicted + slack ||
-                        alpha < 1e-12) {
-                        swap(&u, &trial), swap(&g, &gt), swap(&e, &et); /* the trial's state taken */
-                        energy = et_energy;
-                        break;
-                    }
-                }
+                double predicted;
+                search(&cur, &tri, vel, (tkt - tat > 0) ? rt / (tkt - tat) : rt / tkt, 1e-12, gam == 0, &energy,
+                       &trials, &hits, &predicted);
                 fresh = hits > 0;
                 continue;
             }
@@ -486,9 +497,9 @@ int main(int argc, char **argv) {
                 }
                 double power = 0.0, v2 = 0.0;
                 for (size_t p = 0; p < N; p++) {
-                    power -= held[p] ? 0.0 : g[p] * vel[p];
+                    power -= held[p] ? 0.0 : cur.g[p] * vel[p];
                     v2 += vel[p] * vel[p];
-                    r[p] = held[p] ? 0.0 : -g[p];
+                    r[p] = held[p] ? 0.0 : -cur.g[p];
                 }
                 int uphill = 0;
                 if (power > 0) {
@@ -502,32 +513,20 @@ int main(int argc, char **argv) {
                              keep = uphill ? 0.0 : 1.0 - alpha, back = uphill ? 0.5 * dt : 0.0;
                 for (size_t p = 0; p < N; p++) { /* the library's mass_update */
                     const double ai = held[p] ? 0.0 : a[p] / c0, vi = keep * vel[p] + (mix + dt) * ai,
-                                 zn = u[p] - back * vel[p] + dt * vi;
+                                 zn = cur.u[p] - back * vel[p] + dt * vi;
                     vel[p] = zn < h[p] ? 0.0 : vi;
-                    u[p] = zn < h[p] ? h[p] : zn;
+                    cur.u[p] = zn < h[p] ? h[p] : zn;
                 }
-                energy = gradient(u, g, e);
+                energy = gradient(cur.u, cur.g, cur.e);
                 continue;
             }
             int boundary = 0, negative = 0;
-            cg_its += newton_direction(g, e, trust > 0 ? radius : 0.0, d, r, pp, kp, &boundary, &negative);
+            cg_its += newton_direction(cur.g, cur.e, trust > 0 ? radius : 0.0, d, r, pp, kp, &boundary, &negative);
             /* the search along d, cut at the substrate */
             const double before = energy;
-            double alpha = 1.0, predicted = 0.0;
-            for (;; alpha *= 0.5) {
-                predicted = 0.0;
-                for (size_t p = 0; p < N; p++) {
-                    trial[p] = fmax(h[p], u[p] + alpha * d[p]);
-                    predicted += g[p] * (trial[p] - u[p]);
-                }
-                trials++;
-                const double et_energy = gradient(trial, gt, et);
-                if (et_energy <= energy + 1e-4 * predicted + slack || alpha < 1e-6) {
-                    swap(&u, &trial), swap(&g, &gt), swap(&e, &et); /* the trial's state taken */
-                    energy = et_energy;
-                    break;
-                }
-            }
+            double predicted;
+            size_t hits;
+            const double alpha = search(&cur, &tri, d, 1.0, 1e-6, 0, &energy, &trials, &hits, &predicted);
             if (verbose)
                 fprintf(stderr, "  alpha %.3g, energy %.6e -> %.6e, predicted %.3e%s%s, radius %.3g\n", alpha, before,
                         energy, predicted, negative ? ", negative curvature" : "", boundary ? ", at the edge" : "",
@@ -545,8 +544,8 @@ int main(int argc, char **argv) {
         size_t contacts = 0;
         double dz = 0.0;
         for (size_t p = 0; p < N; p++) {
-            contacts += u[p] - h[p] <= 0.0;
-            dz = fmax(dz, fabs(u[p] - ref[p]));
+            contacts += cur.u[p] - h[p] <= 0.0;
+            dz = fmax(dz, fabs(cur.u[p] - ref[p]));
         }
         const double area = (double)contacts / (double)N;
         printf("%s: %ld steps, %ld CG its, %ld line-search trials, %ld FFT pairs, %ld V-cycles, %ld rows assembled; "
@@ -570,7 +569,7 @@ int main(int argc, char **argv) {
          * one patch, A/A0 by 1e-5 relative), so there the surface is printed, not checked */
         if (!(dz <= 1e-3) && gam == 0) fprintf(stderr, "stencil_newton: the surface differs by %g a\n", dz), fail = 1;
     }
-    double *const arrays[] = {hh, u, z0, z1, zf, g, e, d, r, pp, kp, trial, gt, et, kq};
+    double *const arrays[] = {hh, cur.u, z0, z1, zf, cur.g, cur.e, d, r, pp, kp, tri.u, tri.g, tri.e, kq};
     for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; k++) fftw_free(arrays[k]);
     fftw_free(spec);
     fftw_destroy_plan(r2c);
