@@ -131,6 +131,27 @@ static const mgreal *precondition(const double *r) {
     return lv[0].x;
 }
 
+/* lambda_max of (1/c0) V K_FF by 15 power iterations from a pseudo-random start (FIRE's unit time
+ * step); x, y: scratch */
+static double lambda_max(double *x, double *y) {
+    const size_t N = (size_t)n * n;
+    double lambda = 0.0;
+    for (size_t p = 0; p < N; p++) x[p] = held[p] ? 0.0 : sin(0.7 * (double)p) + 0.2;
+    for (int it = 0; it < 15; it++) {
+        stiffness(x, y);
+        for (size_t p = 0; p < N; p++) y[p] = held[p] ? 0.0 : y[p];
+        const mgreal *v = precondition(y);
+        double x2 = 0.0, y2 = 0.0;
+        for (size_t p = 0; p < N; p++) {
+            x2 += x[p] * x[p];
+            x[p] = v[p] / c0;
+            y2 += x[p] * x[p];
+        }
+        lambda = sqrt(y2 / x2);
+    }
+    return lambda;
+}
+
 /* a surface u with its energy's gradient g and the adhesive law's factors e (gradient()) */
 typedef struct {
     double *u, *g, *e;
@@ -480,21 +501,7 @@ int main(int argc, char **argv) {
                 continue;
             }
             if (fire) {
-                if (lambda == 0.0) { /* lambda_max(V K_FF) by 15 power iterations from a pseudo-random start */
-                    for (size_t p = 0; p < N; p++) pp[p] = held[p] ? 0.0 : sin(0.7 * (double)p) + 0.2;
-                    for (int it = 0; it < 15; it++) {
-                        stiffness(pp, kp);
-                        for (size_t p = 0; p < N; p++) kp[p] = held[p] ? 0.0 : kp[p];
-                        const mgreal *v = precondition(kp);
-                        double x2 = 0.0, y2 = 0.0;
-                        for (size_t p = 0; p < N; p++) {
-                            x2 += pp[p] * pp[p];
-                            pp[p] = v[p] / c0;
-                            y2 += pp[p] * pp[p];
-                        }
-                        lambda = sqrt(y2 / x2);
-                    }
-                }
+                if (lambda == 0.0) lambda = lambda_max(pp, kp);
                 double power = 0.0, v2 = 0.0;
                 for (size_t p = 0; p < N; p++) {
                     power -= held[p] ? 0.0 : cur.g[p] * vel[p];
