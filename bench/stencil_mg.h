@@ -269,7 +269,23 @@ static inline size_t mg_update(const size_t *changed, size_t count, unsigned cha
     return rows;
 }
 
-/* every level's arrays freed (malloc'ed by the caller) */
+/* the levels of an n x n grid, n, n/2, ... down to 16 points a side (at most MAXL): their arrays
+ * allocated (the coarse ones' operators too); 0 on success, -1 out of memory (mg_free() then frees
+ * what was allocated) */
+static inline int mg_alloc(int n) {
+    for (int m = n; m >= 16 && nl < MAXL; m /= 2) {
+        const size_t mm = (size_t)m * m;
+        level *L = &lv[nl++];
+        L->m = m;
+        L->x = malloc(mm * sizeof(mgreal)), L->b = malloc(mm * sizeof(mgreal)), L->r = malloc(mm * sizeof(mgreal));
+        L->t = malloc(mm * sizeof(mgreal)), L->dinv = malloc(mm * sizeof(mgreal));
+        L->c = (m < n) ? malloc(mm * NC * sizeof(float)) : NULL;
+        if (!L->x || !L->b || !L->r || !L->t || !L->dinv || (m < n && !L->c)) return -1;
+    }
+    return 0;
+}
+
+/* every level's arrays freed (mg_alloc()) */
 static inline void mg_free(void) {
     for (int l = 0; l < nl; l++) {
         free(lv[l].x);

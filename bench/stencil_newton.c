@@ -400,21 +400,16 @@ int main(int argc, char **argv) {
             }
         }
     c0 = s1 / s2; /* the stencil c0 L^2's symbol is then c0 lo .. c0 hi of k(q) */
-    /* the multigrid levels */
-    for (int m = n; m >= 16 && nl < MAXL; m /= 2) {
-        const size_t mm = (size_t)m * m;
-        level *L = &lv[nl];
-        L->m = m;
-        L->x = malloc(mm * sizeof(mgreal)), L->b = malloc(mm * sizeof(mgreal)), L->r = malloc(mm * sizeof(mgreal));
-        L->t = malloc(mm * sizeof(mgreal)), L->dinv = malloc(mm * sizeof(mgreal));
-        L->c = (m < n) ? malloc(mm * NC * sizeof(float)) : NULL;
-        dirty[nl] = calloc(mm, 1);
-        if (!L->x || !L->b || !L->r || !L->t || !L->dinv || (m < n && !L->c) || !dirty[nl]) {
+    /* the multigrid levels, each with its dirty marks for mg_update */
+    if (mg_alloc(n)) {
+        fprintf(stderr, "stencil_newton: out of memory\n");
+        return 1;
+    }
+    for (int l = 0; l < nl; l++)
+        if (!(dirty[l] = calloc((size_t)lv[l].m * lv[l].m, 1))) {
             fprintf(stderr, "stencil_newton: out of memory\n");
             return 1;
         }
-        nl++;
-    }
     /* the bare pair, timed */
     memcpy(trial, z0, N * sizeof(double));
     const double t_pair = pair_seconds(r2c, c2r, trial, spec, gt);

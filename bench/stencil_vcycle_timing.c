@@ -139,21 +139,9 @@ int main(int argc, char **argv) {
         fprintf(stderr, "stencil_vcycle_timing: N a power of 2 >= 32, 0 <= F < 1, R >= 1, 1 <= S <= 8\n");
         return 2;
     }
-    for (int m = n; m >= 16; m /= 2) {
-        if (nl == MAXL) break;
-        const size_t mm = (size_t)m * m;
-        level *L = &lv[nl++];
-        L->m = m;
-        L->x = malloc(mm * sizeof(mgreal));
-        L->b = malloc(mm * sizeof(mgreal));
-        L->r = malloc(mm * sizeof(mgreal));
-        L->t = malloc(mm * sizeof(mgreal));
-        L->dinv = malloc(mm * sizeof(mgreal));
-        L->c = (m < n) ? malloc(mm * NC * sizeof(float)) : NULL;
-        if (!L->x || !L->b || !L->r || !L->t || !L->dinv || (m < n && !L->c)) {
-            fprintf(stderr, "stencil_vcycle_timing: out of memory\n");
-            return 1;
-        }
+    if (mg_alloc(n)) {
+        fprintf(stderr, "stencil_vcycle_timing: out of memory\n");
+        return 1;
     }
     const size_t N = (size_t)n * n;
     held = malloc(N);
