@@ -238,7 +238,8 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * (not flat: a load continuing from the last equilibrium) on a sheet thinner than the grid
  * resolves, q_max w < 6 with q_max = pi sqrt(2)/a, takes GFMD_SOLVER_FIRE_MASS at Persson's
  * A/A0 < 0.15/(q_max w), GFMD_SOLVER_MASS_FIRE below twice that or 0.15, whichever is lower, and
- * GFMD_SOLVER_FIRE above -- from nx ny >= 2048^2 on, and below that where the sheet is also thin
+ * GFMD_SOLVER_FIRE above (but GFMD_SOLVER_NEWTON at Persson's A/A0 < 0.15 from nx ny >= 1024^2 on,
+ * on a grid it takes: since 2026-11-29) -- from nx ny >= 2048^2 on, and below that where the sheet is also thin
  * against the substrate's shortest wave, 2 sqrt(2) q_s w < 4.5 (q_s as below: = q_max w where
  * lambda_s = 4a), and its longest wave very soft, f(q_min w) >= 1e6, on a grid of at least 128^2
  * points -- and from nx ny >= 2048^2 on such
@@ -298,7 +299,21 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * equilibrium fast and then converges slowly, FIRE finishes fast; the approach steps at the time
  * step of the unmasked modes, longer than GFMD_SOLVER_FIRE_MASS's (measured faster for 100 steps);
  * the count of approach steps is part of the solver's state, so chunks and checkpoints follow one
- * call; like GFMD_SOLVER_FIRE_MASS it needs one byte per point).
+ * call; like GFMD_SOLVER_FIRE_MASS it needs one byte per point), or GFMD_SOLVER_NEWTON (the
+ * active-set Newton method for thin sheets: the energy without adhesion is quadratic, so a step
+ * takes the points the wall holds as fixed and solves for the others by CG preconditioned with a
+ * multigrid cycle of the thin-plate stencil c0 L^2 (L the 5-point Laplacian, c0 fitted to the
+ * sheet's stiffness) on the free points, then moves to max(h, z + alpha d) with alpha halved
+ * from 1 until the energy falls enough; one "step" of gfmd_step()/gfmd_relax() is one Newton step,
+ * about 10-20 FFT pairs and multigrid cycles; it has no state between steps, so chunks and
+ * checkpoints follow one call, and results do not depend on the thread count (its cycle runs on
+ * one thread).  It takes a layer on a fluid foundation without adhesion under pressure control on
+ * one process, on a square grid of square cells whose side is a power of 2 >= 32 --
+ * GFMD_ERR_STATE, nothing changed, for a call that would set it on another body or grid or bring
+ * its body adhesion, displacement control or another Green's function; gfmd_relax_multilevel()
+ * takes the default's choice on coarse grids below 32^2.  About 88 bytes per point more
+ * (GFMD_ERR_NOMEM, nothing changed, if they cannot be had).  Correct on any such layer, fast
+ * where the stencil stands for the stiffness, q_max w < 6 (docs/performance.md)).
  */
 GFMD_API int32_t gfmd_set_solver(gfmd_sim *s, int32_t solver);
 

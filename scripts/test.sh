@@ -115,7 +115,7 @@ mkdir -p "$logs"
 # at a time end together.
 required=(test_cg_reference test_threads test_continuation test_hertz test_displacement test_multilevel test_api
   test_selfaffine test_adhesion test_theory test_checkpoint fortran/test_fortran_bindings test_sinusoid test_layout
-  test_failed_calls test_green test_units)
+  test_failed_calls test_green test_units test_newton)
 binaries=()
 for name in "${required[@]}"; do binaries+=("$root/build/tests/$name"); done
 for t in "$root"/build/tests/test_*; do

@@ -11,6 +11,7 @@
 #include "constraint.hpp"
 #include "error.hpp"
 #include "observables.hpp"
+#include "solvers/newton.hpp"
 
 namespace gfmd {
 
@@ -44,12 +45,18 @@ RealBuffer copy_of(const RealBuffer &from) {
 // preconditioned nor are its steps checked against the energy, so it does not take adhesion there.
 bool cg_takes(const Params &p) { return !(p.gamma0 > 0.0) || p.control == kPressureControl; }
 
-// GFMD_ERR_STATE if GFMD_SOLVER_CG would run p (set or kept by the caller) and cannot.
-void require_cg_takes(const Params &p, int32_t solver) {
+// GFMD_ERR_STATE if the solver set (or kept) by the caller would run p and cannot: GFMD_SOLVER_CG,
+// or GFMD_SOLVER_NEWTON (newton.hpp: a thin sheet without adhesion under pressure control, on a
+// grid its cycle takes).
+void require_solver_takes(const FftGrid &grid, const Params &p, int32_t solver) {
     if (solver == GFMD_SOLVER_CG && !cg_takes(p))
         fail(GFMD_ERR_STATE,
              "the CG solver takes adhesion under pressure control only; under displacement control with "
              "adhesion choose GFMD_SOLVER_FIRE, GFMD_SOLVER_FIRE_MASS, GFMD_SOLVER_VERLET or GFMD_SOLVER_AUTO");
+    if (solver == GFMD_SOLVER_NEWTON) {
+        const std::string why = newton_refusal(grid, p);
+        if (!why.empty()) fail(GFMD_ERR_STATE, why + "; choose another solver or GFMD_SOLVER_AUTO");
+    }
 }
 }  // namespace
 
@@ -114,6 +121,7 @@ void Simulation::change(const char *what, Apply &&apply, Undo &&undo) {
 
 // New Green's function, modulus or Poisson ratio: a new body, kept only if the state stays finite.
 void Simulation::change_body(const char *what, const Params &p) {
+    require_solver_takes(grid_, p, params_.solver);
     Body b = make_body(grid_, p.kind, p.width, p.e_star, p.nu);
     const Params old_params = params_;
     const Dynamics old_dynamics = dynamics_;
@@ -238,7 +246,7 @@ void Simulation::set_mean_displacement(double d) {
     check_mean_displacement(d, fields_.h.data());
     Params asked = params_;
     asked.control = kDisplacementControl;
-    require_cg_takes(asked, params_.solver);
+    require_solver_takes(grid_, asked, params_.solver);
     const Params old = params_;
     undo_.save(fields_);
     change(
@@ -265,7 +273,7 @@ void Simulation::set_adhesion(double gamma0, double rho) {
         fail(GFMD_ERR_RANGE, "the adhesive stiffness gamma0/rho^2 overflows");
     Params asked = params_;
     asked.gamma0 = gamma0;
-    require_cg_takes(asked, params_.solver);
+    require_solver_takes(grid_, asked, params_.solver);
     const Params old = params_;
     const Dynamics old_dynamics = dynamics_;
     change(
@@ -429,6 +437,18 @@ constexpr double kAutoContinueMassThicknessArea = 0.15;
 // the old rule's seconds.
 constexpr double kAutoContinueFireArea = 0.04;
 constexpr double kAutoContinueThinFireArea = 0.15;
+// The thin sheets' loads from a deformed surface at the lower loads, where the grid admits it, take
+// the active-set Newton method (GFMD_SOLVER_NEWTON, newton.hpp): a step solves the free points'
+// equilibrium for the held set, preconditioned by the thin-plate stencil's multigrid cycle.
+// Measured 2026-11-29 (gfmd_bench --sweep --columns newton,auto --verbose, one thread, the study's
+// nine continuing loads on --full's substrate; log docs/performance_logs/newton_sweep_2026-11-29.log;
+// docs/performance.md "The active-set Newton method in the library"): at 2048^2 it won every load
+// up to Persson's A/A0 = 0.12 on W = 0.044, 0.088, 0.25 (1.2-1.9x the default's speed then), was
+// about even at 0.18 (0.96-1.05x) and lost at 0.27 and 0.4 (0.70-0.92x): bound 0.15, between.
+// The same at 1024^2 (W = 0.044, 0.088, 0.25: 1.2-1.8x up to 0.12, 0.81-0.92x from 0.18 on); at
+// 512^2 it won only up to 0.03-0.05 and by less (1.04-1.3x), lost beyond: from 1024^2 on.
+constexpr double kAutoNewtonArea = 0.15;
+constexpr double kAutoNewtonPoints = 1024.0 * 1024.0;
 // With adhesion (CG minimizes the quadratic problem only), at most 100 mass-weighted FIRE steps
 // after each restart, then FIRE (GFMD_SOLVER_MASS_FIRE), where the longest wave is much softer
 // than on a half-space, f(q_min w) = k_halfspace(q_min)/k(q_min) >= 2e4, and the load is low,
@@ -560,6 +580,8 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
             if (soft && !thin) return GFMD_SOLVER_CG;  // the middle widths
             const double area = persson_contact_area(params_.sigma0);
             if (!thin) return area < kAutoContinueFireArea ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE;
+            if (points >= kAutoNewtonPoints && area < kAutoNewtonArea && newton_refusal(grid_, params_)[0] == '\0')
+                return GFMD_SOLVER_NEWTON;
             const double mass_area = kAutoContinueMassThicknessArea / thickness;
             if (area < mass_area) return GFMD_SOLVER_FIRE_MASS;
             return area < std::min(2.0 * mass_area, kAutoContinueThinFireArea) ? GFMD_SOLVER_MASS_FIRE
@@ -637,7 +659,7 @@ std::unique_ptr<Solver> Simulation::follow_auto_choice() {
 }
 
 void Simulation::set_solver(int32_t solver) {
-    require_cg_takes(params_, solver);
+    require_solver_takes(grid_, params_, solver);
     const int32_t kind = resolve_solver(solver);
     solver_ = make_solver(kind, grid_, dynamics_);  // a new, restarted solver; the old one freed
     active_solver_ = kind;
@@ -727,6 +749,9 @@ std::unique_ptr<Simulation> Simulation::coarsened() {
     auto c = std::make_unique<Simulation>(grid_.nx() / 2, grid_.ny() / 2, grid_.lx(), grid_.ly(), grid_.threads(),
                                           GFMD_PLANNER_ESTIMATE, grid_.distribution());
     c->params_ = params_;
+    // the Newton solver where the coarse grid's cycle has levels enough, the default's choice below
+    if (params_.solver == GFMD_SOLVER_NEWTON && *newton_refusal(c->grid_, params_) != '\0')
+        c->params_.solver = GFMD_SOLVER_AUTO;
     c->body_ = make_body(c->grid_, params_.kind, params_.width, params_.e_star, params_.nu);
     c->dynamics_ = dynamics_for(c->params_, c->body_);
     const double to_coarse = 1.0 / static_cast<double>(grid_.real_size());
@@ -739,7 +764,7 @@ std::unique_ptr<Simulation> Simulation::coarsened() {
     c->grid_.backward(c->fields_.work.data(), c->fields_.z.data());
     c->fields_.lift_at_rest(c->grid_);
     c->apply_control();
-    c->active_solver_ = c->resolve_solver(params_.solver);
+    c->active_solver_ = c->resolve_solver(c->params_.solver);
     c->refresh_forces();
     c->solver_ = make_solver(c->active_solver_, c->grid_, c->dynamics_);
     return c;

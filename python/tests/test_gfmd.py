@@ -274,6 +274,25 @@ def test_solver_choice():
         assert 0.0 < s.contact_area < 1.0
 
 
+def test_newton_solver():
+    """GFMD_SOLVER_NEWTON ends where the CG ends on a thin sheet (the same contact set), and a body
+    it does not take is refused with a StateError that changes nothing."""
+    areas = []
+    for solver in (gfmd.NEWTON, gfmd.CG):
+        with gfmd.Simulation(64, 64, 64.0, 64.0, threads=1, planner=gfmd.ESTIMATE) as s:
+            s.generate_selfaffine(0.8, 16.0, 4.0, 1.0, seed=5)
+            s.set_green(gfmd.LAYER_FLUID, 0.35)
+            s.set_pressure(2e-5)
+            s.set_solver(solver)
+            s.relax(tol=1e-10)
+            areas.append(s.contact_area)
+            if solver == gfmd.NEWTON:
+                with pytest.raises(gfmd.StateError):
+                    s.set_adhesion(1e-3, 0.5)
+                assert s.solver == gfmd.NEWTON
+    assert 0.0 < areas[0] == areas[1] < 1.0
+
+
 def test_relax_multilevel():
     """A start made on coarser grids ends where a flat start ends (gfmd_relax_multilevel)."""
     results = []

@@ -8,6 +8,7 @@
 #include "fire.hpp"
 #include "fire_mass.hpp"
 #include "mass_fire.hpp"
+#include "newton.hpp"
 #include "verlet.hpp"
 
 namespace gfmd {
@@ -23,6 +24,18 @@ void Solver::set_grid_state(std::vector<RealBuffer> &&fields) {
     if (!fields.empty()) fail(GFMD_ERR_FORMAT, "grid-sized state for a solver that has none");
 }
 
+namespace {
+// (the body's part of newton_refusal() the caller checked: the grid's is checked here too, so that
+// no caller can make the cycle for a grid it cannot take)
+std::unique_ptr<Solver> make_newton(const FftGrid &grid) {
+    if (grid.distributed() || grid.nx() != grid.ny() || !StencilMultigrid::fits(grid.nx()) || grid.lx() != grid.ly())
+        fail(GFMD_ERR_STATE, "the Newton solver needs a square grid of square cells whose side is a power of 2 >= 32, "
+                             "on one process");
+    check_memory(grid.nx(), grid.ny(), ActiveSetNewton::bytes_per_point());
+    return std::make_unique<ActiveSetNewton>(grid.nx());
+}
+}  // namespace
+
 std::unique_ptr<Solver> make_solver(int32_t kind, const FftGrid &grid, const Dynamics &d) {
     std::unique_ptr<Solver> s;
     switch (kind) {  // one line per solver
@@ -31,6 +44,7 @@ std::unique_ptr<Solver> make_solver(int32_t kind, const FftGrid &grid, const Dyn
         case GFMD_SOLVER_FIRE_MASS: s = std::make_unique<FireMass>(grid); break;
         case GFMD_SOLVER_MASS_FIRE: s = std::make_unique<MassThenFire>(grid); break;
         case GFMD_SOLVER_CG: s = std::make_unique<ConjugateGradient>(grid); break;
+        case GFMD_SOLVER_NEWTON: s = make_newton(grid); break;
         default: fail(GFMD_ERR_BAD_ENUM, "unknown solver " + std::to_string(kind));
     }
     s->restart(d);

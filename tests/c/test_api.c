@@ -207,7 +207,7 @@ static void bad_enums_and_combinations(void **state) {
     gfmd_sim *s = *state;
     EXPECT(s, gfmd_set_green(s, 3, 1.0), GFMD_ERR_BAD_ENUM);
     EXPECT(s, gfmd_set_green(s, -1, 1.0), GFMD_ERR_BAD_ENUM);
-    EXPECT(s, gfmd_set_solver(s, GFMD_SOLVER_MASS_FIRE + 1), GFMD_ERR_BAD_ENUM);
+    EXPECT(s, gfmd_set_solver(s, GFMD_SOLVER_NEWTON + 1), GFMD_ERR_BAD_ENUM);
     EXPECT(s, gfmd_set_solver(s, -1), GFMD_ERR_BAD_ENUM);
     EXPECT(s, gfmd_generate_selfaffine(s, 0.8, 12.0, 3.0, 1.0, 3, 2), GFMD_ERR_BAD_ENUM);
     /* the bonded layer needs Poisson's ratio first */
@@ -620,7 +620,10 @@ static void automatic_choice_when_continuing(void **state) {
             TS_OK(s, gfmd_set_pressure(s, load));
             TS_OK(s, gfmd_get_solver(s, &solver));
             const int thin = q_max * cases[c].width < 6.0 && longest_wave(n, cases[c].width) >= 1e6 && n * n >= thin_from;
-            assert_int_equal(solver, (n >= 2048 || thin) ? cases[c].at_2048 : GFMD_SOLVER_CG);
+            /* since 2026-11-29 from 1024^2 on a thin sheet's lower loads, Persson's A/A0 < 0.15,
+             * take the Newton method instead (test_newton has its bounds) */
+            const int newton = (thin || (n >= 2048 && q_max * cases[c].width < 6.0)) && n >= 1024 && cases[c].area < 0.15;
+            assert_int_equal(solver, newton ? GFMD_SOLVER_NEWTON : (n >= 2048 || thin) ? cases[c].at_2048 : GFMD_SOLVER_CG);
         }
         TS_OK(s, gfmd_set_pressure(s, 0.02));
         TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 4.0));

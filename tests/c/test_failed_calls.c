@@ -130,7 +130,9 @@ static int32_t timestep_negative(gfmd_sim *s) { return gfmd_set_timestep(s, -1.0
 static int32_t timestep_nan(gfmd_sim *s) { return gfmd_set_timestep(s, NAN); }
 static int32_t damping_negative(gfmd_sim *s) { return gfmd_set_damping(s, -1.0); }
 static int32_t damping_inf(gfmd_sim *s) { return gfmd_set_damping(s, INFINITY); }
-static int32_t solver_unknown(gfmd_sim *s) { return gfmd_set_solver(s, GFMD_SOLVER_MASS_FIRE + 1); }
+static int32_t solver_unknown(gfmd_sim *s) { return gfmd_set_solver(s, GFMD_SOLVER_NEWTON + 1); }
+/* the Newton solver on the twin: adhesive, and its grid not square (test_newton has each reason) */
+static int32_t solver_newton(gfmd_sim *s) { return gfmd_set_solver(s, GFMD_SOLVER_NEWTON); }
 static int32_t threads_negative(gfmd_sim *s) { return gfmd_set_threads(s, -1); }
 static int32_t threads_too_many(gfmd_sim *s) { return gfmd_set_threads(s, 5000); }
 static int32_t planner_unknown(gfmd_sim *s) { return gfmd_set_fft_planner(s, 9); }
@@ -203,6 +205,7 @@ static const failing CALLS[] = {
     {"damping < 0", GFMD_ERR_INVALID_ARG, damping_negative},
     {"damping inf", GFMD_ERR_INVALID_ARG, damping_inf},
     {"unknown solver", GFMD_ERR_BAD_ENUM, solver_unknown},
+    {"the Newton solver on a body and grid it does not take", GFMD_ERR_STATE, solver_newton},
     {"threads < 0", GFMD_ERR_INVALID_ARG, threads_negative},
     {"threads > 4096", GFMD_ERR_INVALID_ARG, threads_too_many},
     {"unknown planner", GFMD_ERR_BAD_ENUM, planner_unknown},

@@ -1,0 +1,176 @@
+#include "newton.hpp"
+
+#include <cmath>
+#include <complex>
+#include <vector>
+
+#include "../error.hpp"
+#include "../kernels.hpp"
+
+namespace gfmd {
+
+namespace {
+constexpr double kInnerTolerance = 0.1;  // the CG to a tenth of its right-hand side (bench/stencil_newton --rtol)
+constexpr int kMaxInner = 500;
+constexpr double kArmijo = 1e-4;
+constexpr int kMaxHalvings = 20;  // alpha down to 2^-20, about 1e-6 (the measured program's floor)
+
+// c0 of the stencil c0 L^2 fitted to k(q) in relative error over the modes with a stiffness:
+// minimizes sum (c0 y - 1)^2, y = lambda^2 / k, lambda = 4 - 2 cos(qx a) - 2 cos(qy a) the
+// 5-point -Laplacian's symbol in units of the spacing a.
+double stencil_scale(const FftGrid &grid, const Body &body) {
+    const int64_t nxh = grid.nxh();
+    const double a = grid.lx() / static_cast<double>(grid.nx());
+    std::vector<double> cx(static_cast<std::size_t>(nxh));
+    for (int64_t kx = 0; kx < nxh; ++kx) cx[static_cast<std::size_t>(kx)] = 2.0 - 2.0 * std::cos(grid.qx(kx) * a);
+    const double *stiff = body.stiffness.data();
+    const auto s = grid.sum_mode_rows<2>([&](int64_t r0, int64_t r1, double *acc) {
+        for (int64_t r = r0; r < r1; ++r) {
+            const double cy = 2.0 - 2.0 * std::cos(grid.qy(grid.first_mode_row() + r) * a);
+            for (int64_t kx = 0; kx < nxh; ++kx) {
+                const double k = stiff[r * nxh + kx], lam = cx[static_cast<std::size_t>(kx)] + cy;
+                if (!(k > 0.0)) continue;
+                const double y = lam * lam / k;
+                acc[0] += y;
+                acc[1] += y * y;
+            }
+        }
+    });
+    return s[0] / s[1];
+}
+}  // namespace
+
+const char *newton_refusal(const FftGrid &grid, const Params &p) {
+    if (p.kind != GFMD_GREEN_LAYER_FLUID) return "the Newton solver takes a layer on a fluid foundation only";
+    if (p.gamma0 > 0.0) return "the Newton solver does not take adhesion";
+    if (p.control != kPressureControl) return "the Newton solver takes pressure control only";
+    if (grid.distributed()) return "the Newton solver runs on one process only";
+    if (grid.nx() != grid.ny() || !StencilMultigrid::fits(grid.nx()) || grid.lx() != grid.ly())
+        return "the Newton solver needs a square grid of square cells whose side is a power of 2 >= 32";
+    return "";
+}
+
+double ActiveSetNewton::bytes_per_point() { return 3 * 8.0 + 1.0 + StencilMultigrid::bytes_per_point(); }
+
+ActiveSetNewton::ActiveSetNewton(int64_t side)
+    : side_(side),
+      r_(static_cast<std::size_t>(side * side)),
+      p_(static_cast<std::size_t>(side * side)),
+      s_(static_cast<std::size_t>(side * side)),
+      held_(static_cast<std::size_t>(side * side)),
+      mg_(side) {}
+
+void ActiveSetNewton::set_state(const std::vector<double> &s) {
+    if (!s.empty()) fail(GFMD_ERR_FORMAT, "invalid Newton solver state");
+}
+
+void ActiveSetNewton::advance(StepContext &c) {
+    const FftGrid &grid = c.grid;
+    double *__restrict z = c.fields.z.data(), *__restrict d = c.fields.v.data();
+    const double *__restrict h = c.fields.h.data(), *__restrict f = c.fields.f.data();
+    double *__restrict r = r_.data(), *__restrict p = p_.data(), *__restrict s = s_.data();
+    unsigned char *__restrict held = held_.data();
+    std::complex<double> *work = c.fields.work.data();
+    const double *stiff = c.body.stiffness.data();
+    const int64_t nxh = grid.nxh();
+    const double inv_n = 1.0 / static_cast<double>(grid.real_size()), w_last = grid.weight(nxh - 1);
+
+    // the held set and the right-hand side F_F
+    const double b2 = grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
+        double t = 0.0;
+        for (int64_t i = i0; i < i1; ++i) {
+            held[i] = (z[i] <= h[i] && f[i] <= 0.0) ? 1 : 0;
+            r[i] = held[i] ? 0.0 : f[i];
+            d[i] = 0.0;
+            t += r[i] * r[i];
+        }
+        acc[0] += t;
+    })[0];
+    if (!(b2 > 0.0)) return;  // nothing moves: the caller's test stops
+    mg_.follow(held);
+    const double c0 = stencil_scale(grid, c.body);
+    const auto precondition = [&] {  // s = M^-1 r, returns r.s
+        mg_.apply_inverse(r, c0, s);
+        return grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
+            double t = 0.0;
+            for (int64_t i = i0; i < i1; ++i) t += r[i] * s[i];
+            acc[0] += t;
+        })[0];
+    };
+    double rs = precondition();
+    grid.for_points([&](int64_t i0, int64_t i1) {
+        for (int64_t i = i0; i < i1; ++i) p[i] = s[i];
+    });
+    for (int it = 1; it <= kMaxInner; ++it) {
+        // s = K p on the free points (the stiffness scaled by -k/N: the elastic force of p)
+        grid.forward(p, work);
+        grid.for_mode_rows([&](int64_t y0, int64_t y1) { kernels::use().apply_stiffness(work, stiff, y0, y1, nxh, inv_n, w_last); });
+        grid.backward(work, s);
+        const double pkp = grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
+            double t = 0.0;
+            for (int64_t i = i0; i < i1; ++i) {
+                s[i] = held[i] ? 0.0 : -s[i];
+                t += p[i] * s[i];
+            }
+            acc[0] += t;
+        })[0];
+        if (!(pkp > 0.0)) {  // no curvature along p (no contact holds the sheet): the first direction
+            if (it == 1)
+                grid.for_points([&](int64_t i0, int64_t i1) {
+                    for (int64_t i = i0; i < i1; ++i) d[i] = p[i];
+                });
+            break;
+        }
+        const double a = rs / pkp;
+        const double r2 = grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
+            double t = 0.0;
+            for (int64_t i = i0; i < i1; ++i) {
+                d[i] += a * p[i];
+                r[i] -= a * s[i];
+                t += r[i] * r[i];
+            }
+            acc[0] += t;
+        })[0];
+        if (!(r2 >= kInnerTolerance * kInnerTolerance * b2)) break;
+        const double rs_new = precondition();
+        const double beta = rs_new / rs;
+        rs = rs_new;
+        grid.for_points([&](int64_t i0, int64_t i1) {
+            for (int64_t i = i0; i < i1; ++i) p[i] = s[i] + beta * p[i];
+        });
+    }
+
+    // The move to max(h, z + alpha d): delta = that - z (in r) and the energy's change
+    // -(A/N) F.delta + (A/2N^2) sum_q k |delta(q)|^2 (forces.cpp's units), the factor A/N dropped.
+    double alpha = 1.0;
+    for (int halving = 0;; ++halving, alpha *= 0.5) {
+        const auto m = grid.sum_points<2>([&](int64_t i0, int64_t i1, double *acc) {
+            double fd = 0.0, hits = 0.0;
+            for (int64_t i = i0; i < i1; ++i) {
+                const double zn = z[i] + alpha * d[i];
+                hits += zn < h[i] ? 1.0 : 0.0;
+                r[i] = (zn < h[i] ? h[i] : zn) - z[i];
+                fd += f[i] * r[i];
+            }
+            acc[0] += fd;
+            acc[1] += hits;
+        });
+        if (m[1] == 0.0 && halving == 0) break;  // the CG's iterate itself: a decrease
+        if (halving == kMaxHalvings) break;      // the smallest step, taken (the next step starts again)
+        grid.forward(r, work);
+        const double dkd = grid.sum_mode_rows<1>([&](int64_t y0, int64_t y1, double *acc) {
+            acc[0] += kernels::use().mode_energy(work, stiff, y0, y1, nxh, w_last);
+        })[0];
+        const double change = -m[0] + 0.5 * dkd * inv_n;
+        if (change <= kArmijo * -m[0]) break;
+    }
+    grid.for_points([&](int64_t i0, int64_t i1) {
+        for (int64_t i = i0; i < i1; ++i) {
+            const double zn = z[i] + alpha * d[i];  // as in the test: a point stopped is at h exactly
+            z[i] = zn < h[i] ? h[i] : zn;
+            d[i] = 0.0;  // at rest: the velocity field held the direction
+        }
+    });
+}
+
+}  // namespace gfmd

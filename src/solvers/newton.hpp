@@ -1,0 +1,53 @@
+// The active-set Newton method for a thin sheet without adhesion: the energy is quadratic in z,
+// so between changes of the contact set one Newton step solves the problem.  Each step (one "step"
+// of gfmd_step()/gfmd_relax()):
+//   the held set   the points at the wall that the force presses onto it (z <= h, F <= 0);
+//   the direction  d from CG on K_FF d = F_F (K the stiffness, F the force, on the free points;
+//                  d = 0 on the held ones) from d = 0 to a tenth of its right-hand side's norm,
+//                  at most 500 iterations, preconditioned by one V-cycle of the stencil's block
+//                  (stencil_mg.hpp) scaled by c0, the stencil's least-squares fit to k(q); stopped
+//                  where the curvature is not positive (then the first direction if it came first);
+//   the move       z <- max(h, z + alpha d), alpha = 1, 1/2, ... until the energy falls by 1e-4 of
+//                  its first-order prediction (Armijo's rule along the projected path); a step
+//                  that no point of the wall stopped is taken without a test: the CG's iterate
+//                  lowers the quadratic energy, and no other term changes.  Each test one forward
+//                  transform (the energy's change by Parseval), each CG iteration one FFT pair and
+//                  one cycle (about 1.3-1.9 pairs at 2048^2).
+// Measured first as bench/stencil_newton against the library's default (docs/performance.md,
+// "The stencil's Newton method in C", and "... as a solver of the library").  Takes a layer on a
+// fluid foundation under pressure control without adhesion on a serial square grid of square
+// cells whose side is a power of 2 >= 32 (newton_takes()); its velocity stays zero.
+#ifndef GFMD_SRC_SOLVERS_NEWTON_HPP
+#define GFMD_SRC_SOLVERS_NEWTON_HPP
+
+#include "solver.hpp"
+#include "stencil_mg.hpp"
+
+namespace gfmd {
+
+// Why the Newton method cannot run the body p on the grid (an empty string if it can).
+const char *newton_refusal(const FftGrid &grid, const Params &p);
+
+class ActiveSetNewton final : public Solver {
+public:
+    // Bytes per point it adds to a handle: its three fields, the held set and the cycle's levels.
+    static double bytes_per_point();
+    // Throws std::bad_alloc.  The grid must be one newton_refusal() takes.
+    explicit ActiveSetNewton(int64_t side);
+    void restart(const Dynamics &) override {}
+    void advance(StepContext &c) override;
+    std::unique_ptr<Solver> clone() const override { return std::make_unique<ActiveSetNewton>(side_); }
+    // No adaptive state: a step is a function of z alone (the cycle's operators of its held set).
+    std::vector<double> state() const override { return {}; }
+    void set_state(const std::vector<double> &s) override;
+
+private:
+    int64_t side_;
+    RealBuffer r_, p_, s_;  // the CG's residual, direction and preconditioned residual (or K p)
+    ByteBuffer held_;
+    StencilMultigrid mg_;
+};
+
+}  // namespace gfmd
+
+#endif

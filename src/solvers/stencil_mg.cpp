@@ -1,0 +1,309 @@
+#include "stencil_mg.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+
+namespace gfmd {
+
+namespace {
+// Built for the baseline x86-64 and for x86-64-v3 (AVX2), chosen by the CPU at load time, as the
+// library's kernels are (kernels_dispatch.cpp): the cycle's row loops are bound by memory traffic,
+// and the wider lanes halve their instructions.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
+#define GFMD_CLONES __attribute__((target_clones("default", "arch=x86-64-v3")))
+#else
+#define GFMD_CLONES
+#endif
+
+constexpr int kCoefficients = 25;  // a coarse row: offsets -2..2 in each direction
+constexpr int64_t kCoarsest = 16;  // the last level's side
+constexpr int kCoarsestSweeps = 40;
+constexpr int kSweeps = 1;  // V(1,1): measured against V(2,2) at 2048^2 (docs/performance.md)
+
+inline int64_t wrap(int64_t i, int64_t m) { return i & (m - 1); }  // m a power of 2
+
+inline float out(int mode, float x, float ax, float b, float dinv) {
+    return mode == 0 ? ax : mode == 2 ? b - ax : x + dinv * (b - ax);  // apply, Jacobi, residual
+}
+
+// The 13-point L^2 as a 5 x 5 table, entry [dy + 2][dx + 2]
+constexpr double kL2[5][5] = {{0, 0, 1, 0, 0}, {0, 2, -8, 2, 0}, {1, -8, 20, -8, 1}, {0, 2, -8, 2, 0}, {0, 0, 1, 0, 0}};
+
+// L^2 at column j of row r0 (rows rm2 .. rp2 around it), columns jm2 .. jp2 around j
+#define GFMD_L2(j0, jm2, jm1, jp1, jp2)                                                                     \
+    (20.0f * r0[j0] - 8.0f * (r0[jm1] + r0[jp1] + rm1[j0] + rp1[j0]) + r0[jm2] + r0[jp2] + rm2[j0] + rp2[j0] + \
+     2.0f * (rm1[jm1] + rm1[jp1] + rp1[jm1] + rp1[jp1]))
+
+GFMD_CLONES void fine_rows(int64_t m, const unsigned char *held, const float *x, float *y, const float *b,
+                           const float *dinv, int mode) {
+    for (int64_t i = 0; i < m; i++) {
+        const float *rm2 = x + wrap(i - 2, m) * m, *rm1 = x + wrap(i - 1, m) * m, *r0 = x + i * m,
+                    *rp1 = x + wrap(i + 1, m) * m, *rp2 = x + wrap(i + 2, m) * m;
+        const unsigned char *h = held + i * m;
+        float *yr = y + i * m;
+        const float *br = b ? b + i * m : r0, *dr = dinv ? dinv + i * m : r0;
+        for (int64_t j : {int64_t{0}, int64_t{1}, m - 2, m - 1}) {  // the wrapped ends
+            const float s = GFMD_L2(j, wrap(j - 2, m), wrap(j - 1, m), wrap(j + 1, m), wrap(j + 2, m));
+            yr[j] = out(mode, r0[j], h[j] ? 0.0f : s, br[j], dr[j]);
+        }
+        // the interior without branches, so that it vectorizes
+        if (mode == 0)
+            for (int64_t j = 2; j < m - 2; j++) yr[j] = h[j] ? 0.0f : GFMD_L2(j, j - 2, j - 1, j + 1, j + 2);
+        else if (mode == 2)
+            for (int64_t j = 2; j < m - 2; j++) yr[j] = br[j] - (h[j] ? 0.0f : GFMD_L2(j, j - 2, j - 1, j + 1, j + 2));
+        else
+            for (int64_t j = 2; j < m - 2; j++)
+                yr[j] = r0[j] + dr[j] * (br[j] - (h[j] ? 0.0f : GFMD_L2(j, j - 2, j - 1, j + 1, j + 2)));
+    }
+}
+#undef GFMD_L2
+
+GFMD_CLONES void coarse_rows(int64_t m, const float *c, const float *x, float *y, const float *b, const float *dinv,
+                             int mode) {
+    const int64_t mm = m * m;
+    for (int64_t i = 0; i < m; i++) {
+        float *yr = y + i * m;
+        for (int64_t j = 0; j < m; j++) yr[j] = 0.0f;
+        for (int a = -2; a <= 2; a++) {
+            const float *row = x + wrap(i + a, m) * m;
+            for (int e = -2; e <= 2; e++) {
+                const float *ck = c + ((a + 2) * 5 + e + 2) * mm + i * m;
+                yr[0] += ck[0] * row[wrap(e, m)];
+                yr[1] += ck[1] * row[wrap(1 + e, m)];
+                for (int64_t j = 2; j < m - 2; j++) yr[j] += ck[j] * row[j + e];
+                yr[m - 2] += ck[m - 2] * row[wrap(m - 2 + e, m)];
+                yr[m - 1] += ck[m - 1] * row[wrap(m - 1 + e, m)];
+            }
+        }
+        if (mode != 0) {
+            const float *xr = x + i * m, *br = b + i * m, *dr = dinv ? dinv + i * m : xr;
+            for (int64_t j = 0; j < m; j++) yr[j] = out(mode, xr[j], yr[j], br[j], dr[j]);
+        }
+    }
+}
+
+// A fine point j - 2I = r (-3..3, in one direction) spread to the coarse offsets P gives it: r/2
+// with weight 1 if r is even, (r -+ 1)/2 with weight 1/2 each if odd; indexed by r + 3.
+struct Spread {
+    int count, to[2];
+    double weight;
+};
+constexpr Spread kSpread[7] = {{2, {-2, -1}, 0.5}, {1, {-1, 0}, 1.0}, {2, {-1, 0}, 0.5}, {1, {0, 0}, 1.0},
+                               {2, {0, 1}, 0.5},   {1, {1, 0}, 1.0},  {2, {1, 2}, 0.5}};
+}  // namespace
+
+double StencilMultigrid::bytes_per_point() {
+    // fine: 5 floats, the held copy and the dirty marks; coarse levels (1/3 of the points in all):
+    // 25 coefficients and 5 vectors as floats, the dirty marks; the changed list (1/16 of int64)
+    return 5 * 4.0 + 2.0 + (kCoefficients + 5) * 4.0 / 3.0 + 1.0 / 3.0 + 8.0 / 16.0;
+}
+
+StencilMultigrid::StencilMultigrid(int64_t m) : held_(static_cast<std::size_t>(m * m)) {
+    for (int64_t s = m; s >= kCoarsest; s /= 2) {
+        Level L;
+        const auto mm = static_cast<std::size_t>(s * s);
+        L.m = s;
+        if (s < m) L.c = AlignedBuffer<float>(mm * kCoefficients);
+        L.x = AlignedBuffer<float>(mm);
+        L.b = AlignedBuffer<float>(mm);
+        L.r = AlignedBuffer<float>(mm);
+        L.t = AlignedBuffer<float>(mm);
+        L.dinv = AlignedBuffer<float>(mm);
+        L.dirty = AlignedBuffer<unsigned char>(mm);
+        lv_.push_back(std::move(L));
+    }
+    changed_.reserve(static_cast<std::size_t>(m * m / 16 + 1));
+}
+
+void StencilMultigrid::apply_fine(const float *x, float *y, const float *b, const float *dinv, Mode mode) const {
+    fine_rows(lv_[0].m, held_.data(), x, y, b, dinv, mode);
+}
+
+void StencilMultigrid::apply_coarse(const Level &lv, const float *x, float *y, const float *b, const float *dinv,
+                                    Mode mode) const {
+    coarse_rows(lv.m, lv.c.data(), x, y, b, dinv, mode);
+}
+
+void StencilMultigrid::apply_mode(int l, const float *x, float *y, Mode mode) {
+    Level &L = lv_[static_cast<std::size_t>(l)];
+    if (l == 0) apply_fine(x, y, L.b.data(), L.dinv.data(), mode);
+    else apply_coarse(L, x, y, L.b.data(), L.dinv.data(), mode);
+}
+
+// coarse (side m/2) <- P^T fine (side m): bilinear weights 1, 1/2, 1/4
+void StencilMultigrid::restrict_to(int l, const float *f, float *c) const {
+    const int64_t m = lv_[static_cast<std::size_t>(l)].m, mc = m / 2;
+    for (int64_t I = 0; I < mc; I++)
+        for (int64_t J = 0; J < mc; J++) {
+            float s = 0.0f;
+            for (int a = -1; a <= 1; a++)
+                for (int e = -1; e <= 1; e++) {
+                    const auto w = static_cast<float>((a != 0 ? 0.5 : 1.0) * (e != 0 ? 0.5 : 1.0));
+                    s += w * f[wrap(2 * I + a, m) * m + wrap(2 * J + e, m)];
+                }
+            c[I * mc + J] = s;
+        }
+}
+
+// fine (side m) += P coarse; on the fine grid the held points stay zero
+void StencilMultigrid::prolong_add(int l, const float *c, float *f) const {
+    const int64_t m = lv_[static_cast<std::size_t>(l)].m, mc = m / 2;
+    const unsigned char *held = held_.data();
+    for (int64_t i = 0; i < m; i++)
+        for (int64_t j = 0; j < m; j++) {
+            const int64_t p = i * m + j;
+            if (l == 0 && held[p]) continue;
+            const int64_t I0 = i / 2, J0 = j / 2;
+            const int64_t I1 = (i % 2) ? wrap(I0 + 1, mc) : I0, J1 = (j % 2) ? wrap(J0 + 1, mc) : J0;
+            const float *r0 = c + I0 * mc, *r1 = c + I1 * mc;
+            f[p] += 0.25f * (r0[J0] + r0[J1] + r1[J0] + r1[J1]);
+        }
+}
+
+// x <- x + D^-1 (b - A x), `sweeps` times, each one pass into t, then swapped
+void StencilMultigrid::jacobi(int l, int sweeps) {
+    Level &L = lv_[static_cast<std::size_t>(l)];
+    for (int s = 0; s < sweeps; s++) {
+        apply_mode(l, L.x.data(), L.t.data(), kJacobi);
+        std::swap(L.x, L.t);
+    }
+}
+
+// one V-cycle for level l's right-hand side b from x = 0 (its first sweep x = D^-1 b); into L.x
+void StencilMultigrid::cycle(int l) {
+    Level &L = lv_[static_cast<std::size_t>(l)];
+    const auto mm = static_cast<std::size_t>(L.m * L.m);
+    float *x = L.x.data();
+    const float *b = L.b.data(), *dinv = L.dinv.data();
+    for (std::size_t p = 0; p < mm; p++) x[p] = dinv[p] * b[p];
+    if (l + 1 == static_cast<int>(lv_.size())) {
+        jacobi(l, kCoarsestSweeps - 1);
+        return;
+    }
+    jacobi(l, kSweeps - 1);
+    apply_mode(l, L.x.data(), L.r.data(), kResidual);
+    Level &next = lv_[static_cast<std::size_t>(l) + 1];
+    restrict_to(l, L.r.data(), next.b.data());
+    cycle(l + 1);
+    prolong_add(l, next.x.data(), L.x.data());
+    jacobi(l, kSweeps);
+}
+
+// the operator's entry on level l between point (y, x) and its neighbour (y + dy, x + dx)
+double StencilMultigrid::entry(int l, int64_t y, int64_t x, int dy, int dx) const {
+    const Level &L = lv_[static_cast<std::size_t>(l)];
+    const int64_t m = L.m, p = y * m + x;
+    if (l > 0) return L.c.data()[((dy + 2) * 5 + dx + 2) * m * m + p];
+    const double v = kL2[dy + 2][dx + 2];
+    const unsigned char *held = held_.data();
+    return (v == 0.0 || held[p] || held[wrap(y + dy, m) * m + wrap(x + dx, m)]) ? 0.0 : v;
+}
+
+// the fine grid's Jacobi weight at (y, x): 1 / sum_j |A_pj|, 0 where the point is held
+void StencilMultigrid::fine_weight(int64_t y, int64_t x) {
+    double s = 0.0;
+    for (int dy = -2; dy <= 2; dy++)
+        for (int dx = -2; dx <= 2; dx++) s += std::fabs(entry(0, y, x, dy, dx));
+    lv_[0].dinv.data()[y * lv_[0].m + x] = static_cast<float>(s > 0.0 ? 1.0 / s : 0.0);
+}
+
+// row (Y, X) of level l + 1's operator, P^T A_l P, and its weight: the fine points 2Y + a (a = -1,
+// 0, 1, weights 1/2, 1, 1/2 in each direction), their neighbours j = 2Y + a + d (d = -2..2) spread
+// to the coarse points (j +- 1) / 2 or j / 2 (weights 1/2 or 1): offsets -2..2
+void StencilMultigrid::coarse_row(int l, int64_t Y, int64_t X) {
+    const int64_t m = lv_[static_cast<std::size_t>(l)].m, mc = m / 2, mmc = mc * mc, p = Y * mc + X;
+    double acc[kCoefficients] = {};
+    for (int a = -1; a <= 1; a++)
+        for (int b = -1; b <= 1; b++) {
+            const double wi = (a != 0 ? 0.5 : 1.0) * (b != 0 ? 0.5 : 1.0);
+            const int64_t y = wrap(2 * Y + a, m), x = wrap(2 * X + b, m);
+            for (int dy = -2; dy <= 2; dy++)
+                for (int dx = -2; dx <= 2; dx++) {
+                    const double v = entry(l, y, x, dy, dx);
+                    if (v == 0.0) continue;
+                    const Spread &sy = kSpread[a + dy + 3], &sx = kSpread[b + dx + 3];
+                    for (int ky = 0; ky < sy.count; ky++)
+                        for (int kx = 0; kx < sx.count; kx++)
+                            acc[(sy.to[ky] + 2) * 5 + sx.to[kx] + 2] += wi * v * sy.weight * sx.weight;
+                }
+        }
+    Level &next = lv_[static_cast<std::size_t>(l) + 1];
+    double s = 0.0;
+    for (int k = 0; k < kCoefficients; k++) {
+        next.c.data()[k * mmc + p] = static_cast<float>(acc[k]);
+        s += std::fabs(acc[k]);
+    }
+    next.dinv.data()[p] = static_cast<float>(s > 0.0 ? 1.0 / s : 0.0);
+}
+
+void StencilMultigrid::assemble() {
+    const int64_t m = lv_[0].m;
+    for (int64_t y = 0; y < m; y++)
+        for (int64_t x = 0; x < m; x++) fine_weight(y, x);
+    for (std::size_t l = 0; l + 1 < lv_.size(); l++)
+        for (int64_t Y = 0; Y < lv_[l + 1].m; Y++)
+            for (int64_t X = 0; X < lv_[l + 1].m; X++) coarse_row(static_cast<int>(l), Y, X);
+}
+
+// After the held set changed at the points changed_: the rows that depend on them, level by level.
+// A fine row depends on the held set within 2 points; row I of level l + 1 on the rows of level l
+// within one point of 2I.
+void StencilMultigrid::update() {
+    const int64_t m = lv_[0].m;
+    unsigned char *dirty0 = lv_[0].dirty.data();
+    for (const int64_t p : changed_) {
+        const int64_t y = p / m, x = p % m;
+        for (int dy = -2; dy <= 2; dy++)
+            for (int dx = -2; dx <= 2; dx++) dirty0[wrap(y + dy, m) * m + wrap(x + dx, m)] = 1;
+    }
+    for (std::size_t l = 0; l < lv_.size(); l++) {
+        const int64_t ml = lv_[l].m;
+        unsigned char *dirty = lv_[l].dirty.data();
+        for (int64_t y = 0; y < ml; y++)
+            for (int64_t x = 0; x < ml; x++) {
+                if (!dirty[y * ml + x]) continue;
+                dirty[y * ml + x] = 0;
+                if (l == 0) fine_weight(y, x);
+                else coarse_row(static_cast<int>(l) - 1, y, x);
+                if (l + 1 == lv_.size()) continue;
+                const int64_t mc = ml / 2;  // the rows of level l + 1 with |2I - (y, x)| <= 1
+                unsigned char *next = lv_[l + 1].dirty.data();
+                for (int64_t Y = y / 2 - 1; Y <= (y + 1) / 2 + 1; Y++)
+                    for (int64_t X = x / 2 - 1; X <= (x + 1) / 2 + 1; X++)
+                        if (std::abs(2 * Y - y) <= 1 && std::abs(2 * X - x) <= 1) next[wrap(Y, mc) * mc + wrap(X, mc)] = 1;
+            }
+    }
+}
+
+void StencilMultigrid::follow(const unsigned char *held) {
+    const int64_t mm = lv_[0].m * lv_[0].m;
+    const int64_t limit = mm / 16;  // beyond it a whole assembly is cheaper than the updates
+    unsigned char *own = held_.data();
+    changed_.clear();
+    bool many = !assembled_;
+    for (int64_t p = 0; p < mm; p++) {
+        const unsigned char now = held[p] ? 1 : 0;
+        if (now == own[p]) continue;
+        own[p] = now;
+        if (many) continue;
+        if (static_cast<int64_t>(changed_.size()) == limit) many = true;
+        else changed_.push_back(p);
+    }
+    if (many) assemble();
+    else if (!changed_.empty()) update();
+    assembled_ = true;
+}
+
+void StencilMultigrid::apply_inverse(const double *b, double scale, double *x) {
+    Level &L = lv_[0];
+    const int64_t mm = L.m * L.m;
+    float *fb = L.b.data();
+    for (int64_t p = 0; p < mm; p++) fb[p] = static_cast<float>(b[p]);
+    cycle(0);
+    const float *fx = L.x.data();
+    const double inv = 1.0 / scale;
+    for (int64_t p = 0; p < mm; p++) x[p] = inv * static_cast<double>(fx[p]);
+}
+
+}  // namespace gfmd

@@ -1,0 +1,274 @@
+/* GFMD_SOLVER_NEWTON, the active-set Newton method for thin sheets without adhesion: it must end
+ * where the library's CG ends (a second algorithm: the same convex problem, the same test), from a
+ * flat start, on a continuing load and from coarser grids; repeat bit for bit across thread counts
+ * and through a checkpoint; and refuse, with GFMD_ERR_STATE and nothing changed, every body and
+ * grid it does not take. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "gfmd.h"
+#include "test_support.h"
+
+enum { N = 64 };
+static const char *PATH = "test_newton.gfmd";
+
+/* A layer of width w on a fluid foundation, the study's substrate at N^2 (lambda_s = 4a,
+ * lambda_r = N a/4), the load for Persson's A/A0 = area. */
+static gfmd_sim *make(int64_t n, double w, double area, int threads, int32_t solver) {
+    gfmd_sim *s = NULL;
+    assert_int_equal(gfmd_sim_create_ex(n, n, (double)n, (double)n, threads, GFMD_PLANNER_ESTIMATE, &s), GFMD_OK);
+    TS_OK(s, gfmd_generate_selfaffine(s, 0.8, n / 4.0, 4.0, 1.0, 11, GFMD_DIST_UNIFORM));
+    TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, w));
+    double sigma0 = 0.0;
+    TS_OK(s, gfmd_persson_load(s, area, &sigma0));
+    TS_OK(s, gfmd_set_pressure(s, sigma0));
+    TS_OK(s, gfmd_set_solver(s, solver));
+    return s;
+}
+
+static double *surface(const gfmd_sim *s, int64_t n) {
+    double *z = ts_alloc((size_t)(n * n));
+    TS_OK(s, gfmd_get_surface(s, z));
+    return z;
+}
+
+/* Both relaxed to tol: the same contact set and surfaces within 1e-6 a.  The problem is convex
+ * with one minimum (the contacts fix the mean the fluid foundation leaves free); stopped at 1e-10
+ * of the load in the force residual, two methods' surfaces differ by about that over the softest
+ * free mode's stiffness: 1e-9-1e-8 a on these sheets at 1e-8 (measured), so 1e-6 a leaves room for
+ * other FFT roundings and fails for any wrong equilibrium (a point in contact or not moves the
+ * surface by far more). */
+static void same_equilibrium(const gfmd_sim *a, const gfmd_sim *b, int64_t n) {
+    double *za = surface(a, n), *zb = surface(b, n), dz = 0.0;
+    for (int64_t p = 0; p < n * n; ++p) dz = fmax(dz, fabs(za[p] - zb[p]));
+    double area_a, area_b, ra, rb;
+    TS_OK(a, gfmd_get_contact_area(a, &area_a));
+    TS_OK(b, gfmd_get_contact_area(b, &area_b));
+    TS_OK(a, gfmd_get_residual(a, &ra));
+    TS_OK(b, gfmd_get_residual(b, &rb));
+    print_message("A/A0 %.8f and %.8f, max |dz| = %.2e\n", area_a, area_b, dz);
+    assert_true(area_a > 0.0 && area_a == area_b);
+    assert_true(ra <= 1e-10 && rb <= 1e-10);
+    assert_true(dz <= 1e-6);
+    free(za);
+    free(zb);
+}
+
+static void agrees_with_cg(void **state) {
+    (void)state;
+    /* thin sheets (W = w/lambda_s = 0.088, 0.25) where the stencil stands for k(q), and a thick
+     * layer (W = 1) where it does not and only the speed suffers; low and high loads */
+    const struct {
+        double w, area;
+    } cases[] = {{0.352, 0.01}, {1.0, 0.05}, {4.0, 0.05}, {0.352, 0.3}};
+    const size_t count = ts_valgrind() ? 1 : sizeof cases / sizeof cases[0]; /* one path under valgrind */
+    for (size_t k = 0; k < count; ++k) {
+        gfmd_sim *nw = make(N, cases[k].w, cases[k].area, 1, GFMD_SOLVER_NEWTON),
+                 *cg = make(N, cases[k].w, cases[k].area, 1, GFMD_SOLVER_CG);
+        int64_t steps_nw = 0, steps_cg = 0;
+        TS_OK(nw, gfmd_relax(nw, 1e-10, 10000, &steps_nw));
+        TS_OK(cg, gfmd_relax(cg, 1e-10, 1000000, &steps_cg));
+        print_message("w = %g, A/A0 ~ %g: Newton %lld steps, CG %lld iterations\n", cases[k].w, cases[k].area,
+                      (long long)steps_nw, (long long)steps_cg);
+        same_equilibrium(nw, cg, N);
+        /* a continuing load from that equilibrium: twice the pressure */
+        double sigma0 = 0.0;
+        TS_OK(nw, gfmd_persson_load(nw, cases[k].area, &sigma0));
+        TS_OK(nw, gfmd_set_pressure(nw, 2.0 * sigma0));
+        TS_OK(cg, gfmd_set_pressure(cg, 2.0 * sigma0));
+        TS_OK(nw, gfmd_relax(nw, 1e-10, 10000, &steps_nw));
+        TS_OK(cg, gfmd_relax(cg, 1e-10, 1000000, &steps_cg));
+        same_equilibrium(nw, cg, N);
+        gfmd_sim_destroy(&nw);
+        gfmd_sim_destroy(&cg);
+    }
+}
+
+/* From coarser grids: 64^2 from 32^2 (the Newton method too) and 16^2 (too small for its cycle:
+ * the default's choice there) ends where the flat start ends. */
+static void multilevel_start(void **state) {
+    (void)state;
+    gfmd_sim *flat = make(N, 0.352, 0.01, 1, GFMD_SOLVER_NEWTON), *ml = make(N, 0.352, 0.01, 1, GFMD_SOLVER_NEWTON);
+    int64_t steps = 0, coarse = 0;
+    TS_OK(flat, gfmd_relax(flat, 1e-10, 10000, &steps));
+    TS_OK(ml, gfmd_relax_multilevel(ml, 1e-10, 10000, 3, &steps, &coarse));
+    assert_true(coarse > 0);
+    int32_t solver = -1;
+    TS_OK(ml, gfmd_get_solver(ml, &solver));
+    assert_int_equal(solver, GFMD_SOLVER_NEWTON);
+    same_equilibrium(flat, ml, N);
+    gfmd_sim_destroy(&flat);
+    gfmd_sim_destroy(&ml);
+}
+
+/* The same steps and bits on 1 and 2 threads (the cycle is serial, the sums in fixed blocks, the
+ * transforms FFTW_ESTIMATE's), and after a checkpoint: a step is a function of z alone. */
+static void deterministic(void **state) {
+    (void)state;
+    const int64_t n = 128;
+    gfmd_sim *one = make(n, 0.352, 0.01, 1, GFMD_SOLVER_NEWTON), *two = make(n, 0.352, 0.01, 2, GFMD_SOLVER_NEWTON);
+    TS_OK(one, gfmd_step(one, 2));
+    TS_OK(one, gfmd_sim_save(one, PATH));
+    gfmd_sim *back = NULL;
+    char msg[256] = "x";
+    assert_int_equal(gfmd_sim_load(PATH, &back, msg, sizeof msg), GFMD_OK);
+    int32_t solver = -1;
+    TS_OK(back, gfmd_get_solver(back, &solver));
+    assert_int_equal(solver, GFMD_SOLVER_NEWTON);
+    int64_t s1 = 0, s2 = 0, s3 = 0;
+    TS_OK(one, gfmd_relax(one, 1e-9, 10000, &s1));
+    TS_OK(two, gfmd_relax(two, 1e-9, 10000, &s2));
+    TS_OK(back, gfmd_relax(back, 1e-9, 10000, &s3));
+    assert_true(s1 > 0 && s2 == s1 + 2 && s3 == s1);
+    double *z1 = surface(one, n), *z2 = surface(two, n), *z3 = surface(back, n);
+    assert_memory_equal(z1, z2, (size_t)(n * n) * sizeof(double));
+    assert_memory_equal(z1, z3, (size_t)(n * n) * sizeof(double));
+    free(z1);
+    free(z2);
+    free(z3);
+    gfmd_sim_destroy(&one);
+    gfmd_sim_destroy(&two);
+    gfmd_sim_destroy(&back);
+    remove(PATH);
+}
+
+/* status, and the solver and surface as they were */
+static void refused(gfmd_sim *s, int32_t status, int32_t solver_before) {
+    assert_int_equal(status, GFMD_ERR_STATE);
+    int64_t len = 0;
+    TS_OK(s, gfmd_last_error_length(s, &len));
+    assert_true(len > 20);
+    int32_t solver = -1;
+    TS_OK(s, gfmd_get_solver(s, &solver));
+    assert_int_equal(solver, solver_before);
+}
+
+static void refuses_what_it_does_not_take(void **state) {
+    (void)state;
+    /* grids: not a power of 2, too small, not square, cells not square */
+    const struct {
+        int64_t nx, ny;
+        double lx, ly;
+    } grids[] = {{96, 96, 96.0, 96.0}, {16, 16, 16.0, 16.0}, {64, 128, 64.0, 128.0}, {64, 64, 64.0, 32.0}};
+    for (size_t k = 0; k < sizeof grids / sizeof grids[0]; ++k) {
+        gfmd_sim *s = ts_create_estimate(grids[k].nx, grids[k].ny, grids[k].lx, grids[k].ly);
+        TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 0.5));
+        int32_t before = -1;
+        TS_OK(s, gfmd_get_solver(s, &before));
+        refused(s, gfmd_set_solver(s, GFMD_SOLVER_NEWTON), before);
+        gfmd_sim_destroy(&s);
+    }
+    /* bodies: the half-space, a bonded layer, adhesion, displacement control */
+    gfmd_sim *s = ts_create_estimate(N, N, N, N);
+    TS_OK(s, gfmd_generate_selfaffine(s, 0.8, 16.0, 4.0, 1.0, 11, GFMD_DIST_UNIFORM));
+    TS_OK(s, gfmd_set_pressure(s, 0.01));
+    int32_t before = -1;
+    TS_OK(s, gfmd_get_solver(s, &before));
+    refused(s, gfmd_set_solver(s, GFMD_SOLVER_NEWTON), before);
+    TS_OK(s, gfmd_set_poisson(s, 0.3));
+    TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_BONDED, 8.0));
+    TS_OK(s, gfmd_get_solver(s, &before));
+    refused(s, gfmd_set_solver(s, GFMD_SOLVER_NEWTON), before);
+    TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 1.0));
+    TS_OK(s, gfmd_set_adhesion(s, 1e-3, 1.0));
+    TS_OK(s, gfmd_get_solver(s, &before));
+    refused(s, gfmd_set_solver(s, GFMD_SOLVER_NEWTON), before);
+    TS_OK(s, gfmd_set_adhesion(s, 0.0, 1.0));
+    TS_OK(s, gfmd_set_solver(s, GFMD_SOLVER_NEWTON));
+    /* with the Newton solver set, the calls that would bring it a body it does not take; then it
+     * relaxes as a handle that was never asked them does, bit for bit */
+    gfmd_sim *twin = ts_create_estimate(N, N, N, N);
+    TS_OK(twin, gfmd_generate_selfaffine(twin, 0.8, 16.0, 4.0, 1.0, 11, GFMD_DIST_UNIFORM));
+    TS_OK(twin, gfmd_set_pressure(twin, 0.01));
+    TS_OK(twin, gfmd_set_poisson(twin, 0.3));
+    TS_OK(twin, gfmd_set_green(twin, GFMD_GREEN_LAYER_FLUID, 1.0));
+    TS_OK(twin, gfmd_set_solver(twin, GFMD_SOLVER_NEWTON));
+    refused(s, gfmd_set_adhesion(s, 1e-3, 1.0), GFMD_SOLVER_NEWTON);
+    refused(s, gfmd_set_green(s, GFMD_GREEN_HALFSPACE, 0.0), GFMD_SOLVER_NEWTON);
+    refused(s, gfmd_set_green(s, GFMD_GREEN_LAYER_BONDED, 8.0), GFMD_SOLVER_NEWTON);
+    refused(s, gfmd_set_mean_displacement(s, 1.0), GFMD_SOLVER_NEWTON);
+    int64_t steps = 0, steps_twin = 0;
+    TS_OK(s, gfmd_relax(s, 1e-8, 10000, &steps));
+    TS_OK(twin, gfmd_relax(twin, 1e-8, 10000, &steps_twin));
+    assert_true(steps > 0 && steps == steps_twin);
+    double *z = surface(s, N), *zt = surface(twin, N);
+    assert_memory_equal(z, zt, (size_t)(N * N) * sizeof(double));
+    free(z);
+    free(zt);
+    gfmd_sim_destroy(&s);
+    gfmd_sim_destroy(&twin);
+}
+
+/* The default's choice for a thin sheet's load that continues from a deformed surface (w = 0.352 a,
+ * q_max w = 1.6): the Newton method from 1024^2 on while Persson's A/A0 < 0.15, not above, not on a
+ * smaller grid (docs/performance.md, "The active-set Newton method in the library"). */
+static int32_t continuing_choice(int64_t n, double area) {
+    gfmd_sim *s = NULL;
+    assert_int_equal(gfmd_sim_create_ex(n, n, (double)n, (double)n, 1, GFMD_PLANNER_ESTIMATE, &s), GFMD_OK);
+    TS_OK(s, gfmd_generate_selfaffine(s, 0.8, n / 8.0, 4.0, 1.0, 5, GFMD_DIST_UNIFORM));
+    TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 0.352));
+    double first = 0.0, load = 0.0;
+    TS_OK(s, gfmd_persson_load(s, 0.004, &first));
+    TS_OK(s, gfmd_persson_load(s, area, &load));
+    TS_OK(s, gfmd_set_pressure(s, first));
+    int32_t solver = -1;
+    TS_OK(s, gfmd_get_solver(s, &solver));
+    assert_int_equal(solver, GFMD_SOLVER_CG); /* flat */
+    TS_OK(s, gfmd_step(s, 1));
+    TS_OK(s, gfmd_set_pressure(s, load)); /* continuing from a deformed surface */
+    TS_OK(s, gfmd_get_solver(s, &solver));
+    gfmd_sim_destroy(&s);
+    return solver;
+}
+
+static void automatic_choice(void **state) {
+    (void)state;
+    assert_int_equal(continuing_choice(1024, 0.01), GFMD_SOLVER_NEWTON);
+    assert_int_equal(continuing_choice(1024, 0.14), GFMD_SOLVER_NEWTON);
+    assert_int_equal(continuing_choice(1024, 0.16), GFMD_SOLVER_FIRE);
+    assert_int_equal(continuing_choice(512, 0.01), GFMD_SOLVER_FIRE_MASS);
+}
+
+/* Its 88 bytes per point that cannot be had: GFMD_ERR_NOMEM and the solver unchanged.  In a child
+ * process whose address space is capped just above what it uses and then filled (not under the
+ * sanitizers or valgrind, which need address space of their own). */
+static int without_memory_child(void) {
+    gfmd_sim *s = NULL;
+    if (gfmd_sim_create_ex(1024, 1024, 1024.0, 1024.0, 1, GFMD_PLANNER_ESTIMATE, &s) != GFMD_OK) return 3;
+    if (gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 1.0) != GFMD_OK) return 5;
+    int32_t before = -1, after = -1;
+    gfmd_get_solver(s, &before);
+    if (ts_exhaust_memory() != 0) return 4;
+    const int32_t st = gfmd_set_solver(s, GFMD_SOLVER_NEWTON); /* needs about 92 MB */
+    gfmd_get_solver(s, &after);
+    if (st != GFMD_ERR_NOMEM || after != before)
+        fprintf(stderr, "set_solver(NEWTON) under the cap: status %d, solver %d -> %d\n", (int)st, (int)before, (int)after);
+    gfmd_sim_destroy(&s);
+    return st == GFMD_ERR_NOMEM && after == before ? 0 : 1;
+}
+
+static void without_memory(void **state) {
+    (void)state;
+    if (!ts_memory_cap_possible()) skip();
+    ts_run_in_child(without_memory_child);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(agrees_with_cg),
+        cmocka_unit_test(multilevel_start),
+        cmocka_unit_test(deterministic),
+        cmocka_unit_test(refuses_what_it_does_not_take),
+        cmocka_unit_test(without_memory),
+        cmocka_unit_test(automatic_choice),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
