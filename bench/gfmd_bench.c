@@ -23,7 +23,7 @@
  *                                (--adhesion: with only), by FIRE, mass-weighted FIRE, the
  *                                multilevel start and the default solver (--levers: those only)
  *   gfmd_bench --sweep [--sizes 2048] [--widths 0.25,1,100] [--threads N]
- *        [--adhesion] [--no-cg] [--verbose] [--from A] [--columns fire,m+fire,mass,cg,auto]
+ *        [--adhesion] [--no-cg] [--verbose] [--from A] [--columns fire,m+fire,mass,cg,newton,auto]
  *        [--substrate H,LS,R,SEED]
  *                                the study's continuing loads on each body by FIRE, the approach
  *                                then FIRE, mass-weighted FIRE, CG and the default (its choices);
@@ -307,7 +307,7 @@ static gfmd_sim *bench_body(int n, double W, double sigma0, int32_t solver) {
 
 /* A solver's short name in the tables (GFMD_SOLVER_*). */
 static const char *solver_name(int32_t solver) {
-    static const char *const names[] = {"Verlet", "FIRE", "mass", "CG", "auto", "mass+FIRE"};
+    static const char *const names[] = {"Verlet", "FIRE", "mass", "CG", "auto", "mass+FIRE", "Newton"};
     return solver >= 0 && solver < (int32_t)(sizeof names / sizeof names[0]) ? names[solver] : "?";
 }
 
@@ -405,23 +405,30 @@ static double persson_load(gfmd_sim *s, double area) {
  * load is relaxed once, untimed, by the default solver (from 3 coarser grids at >= 2048^2, flat
  * below, as the study does); from that equilibrium the nine continuing loads are relaxed by each
  * solver on a clone: FIRE, the approach then FIRE, mass-weighted FIRE throughout, CG (not with
- * --no-cg; with adhesion the adhesive CG), and the default, which chooses again at every load.  Prints their
+ * --no-cg; with adhesion the adhesive CG), the active-set Newton method (not with adhesion, which
+ * it does not take) and the default, which chooses again at every load.  Prints their
  * steps and seconds, the default's choices (one name per run of loads), A/A0 at the last load of
  * each, and with --verbose each solver's steps and seconds per load. */
-enum { SWEEP_LOADS = 10, SWEEP_SOLVERS = 5 };
+enum { SWEEP_LOADS = 10, SWEEP_SOLVERS = 6 };
 
 typedef struct {
     long long steps[SWEEP_LOADS], total;
     double secs[SWEEP_LOADS], seconds, area;
 } sweep_run;
 
-/* The nine continuing loads on a clone of s by `solver`, timed load by load. */
+/* The nine continuing loads on a clone of s by `solver`, timed load by load (total -1: the Newton
+ * method refused the body). */
 static sweep_run sweep_continue(gfmd_sim *s, int32_t solver, const double *loads, int first) {
     sweep_run r = {{0}, 0, {0}, 0.0, 0.0};
     gfmd_sim *c = NULL;
     int32_t st = gfmd_sim_clone(s, &c);
     if (st != GFMD_OK) die(s, st, "clone");
-    if ((st = gfmd_set_solver(c, solver)) != GFMD_OK) die(c, st, "solver");
+    if ((st = gfmd_set_solver(c, solver)) == GFMD_ERR_STATE && solver == GFMD_SOLVER_NEWTON) {
+        gfmd_sim_destroy(&c); /* a body the Newton method does not take (a half-space): no column */
+        r.total = -1;
+        return r;
+    }
+    if (st != GFMD_OK) die(c, st, "solver");
     for (int l = first; l < SWEEP_LOADS; ++l) {
         int64_t steps = 0;
         if ((st = gfmd_set_pressure(c, loads[l])) != GFMD_OK) die(c, st, "pressure");
@@ -439,25 +446,25 @@ static sweep_run sweep_continue(gfmd_sim *s, int32_t solver, const double *loads
 
 /* The default's choices over the continuing loads, e.g. "mass/m+FIRE" (one name per run). */
 static void sweep_choices(const int32_t *choice, int first, char *out, size_t size) {
-    static const char *const shortnames[] = {"Verlet", "FIRE", "mass", "CG", "auto", "m+FIRE"};
+    static const char *const shortnames[] = {"Verlet", "FIRE", "mass", "CG", "auto", "m+FIRE", "Newton"};
     out[0] = '\0';
     for (int l = first; l < SWEEP_LOADS; ++l) {
         if (l > first && l > 0 && choice[l] == choice[l - 1]) continue;
         const int32_t k = choice[l];
-        const char *name = k >= 0 && k < 6 ? shortnames[k] : "?";
+        const char *name = k >= 0 && k < 7 ? shortnames[k] : "?";
         const size_t used = strlen(out);
         snprintf(out + used, size - used, "%s%s", l > first ? "/" : "", name);
     }
 }
 
-static const char *const sweep_names[SWEEP_SOLVERS] = {"fire", "m+fire", "mass", "cg", "auto"};
+static const char *const sweep_names[SWEEP_SOLVERS] = {"fire", "m+fire", "mass", "cg", "newton", "auto"};
 
 /* columns: a bit per column to run (--columns, parse_names on sweep_names), so that a 2048^2
- * comparison need not run all five */
+ * comparison need not run all six */
 static int sweep_table(const double *sizes, int nsizes, const double *widths, int nwidths, int threads, int adhesion,
                        int cg, int verbose, double from, int columns) {
     static const double targets[SWEEP_LOADS] = {0.004, 0.008, 0.016, 0.03, 0.05, 0.08, 0.12, 0.18, 0.27, 0.4};
-    static const char *const heads[SWEEP_SOLVERS] = {"FIRE", "m+FIRE", "mass", "CG", "auto"};
+    static const char *const heads[SWEEP_SOLVERS] = {"FIRE", "m+FIRE", "mass", "CG", "Newton", "auto"};
     printf("gfmd %s: the study's continuing loads (Persson A/A0 = 0.008 ... 0.4 after the first load 0.004), "
            "layers on a fluid foundation (w = 4 W a), H = %g, lambda_s = %ga, lambda_r = n a/%g, seed %llu, "
            "%d thread(s), default tolerance%s\n", gfmd_version(), substrate_hurst, substrate_lambda_s, substrate_ratio,
@@ -492,7 +499,7 @@ static int sweep_table(const double *sizes, int nsizes, const double *widths, in
                 return 1;
             }
             const int32_t solvers[SWEEP_SOLVERS] = {GFMD_SOLVER_FIRE, GFMD_SOLVER_MASS_FIRE, GFMD_SOLVER_FIRE_MASS,
-                                                    GFMD_SOLVER_CG, GFMD_SOLVER_AUTO};
+                                                    GFMD_SOLVER_CG, GFMD_SOLVER_NEWTON, GFMD_SOLVER_AUTO};
             /* the default's choice at each load from this equilibrium (it depends on the body, the
              * load and whether the surface is flat, not on the solver's state, which every column
              * restarts on its clone): asked of s itself, its surface unchanged; where it is one
@@ -510,7 +517,9 @@ static int sweep_table(const double *sizes, int nsizes, const double *widths, in
             sweep_run runs[SWEEP_SOLVERS];
             for (int k = 0; k < SWEEP_SOLVERS; ++k) {
                 runs[k].total = -1;
-                if (!(columns & (1 << k)) || (solvers[k] == GFMD_SOLVER_CG && !cg)) continue;
+                if (!(columns & (1 << k)) || (solvers[k] == GFMD_SOLVER_CG && !cg) ||
+                    (solvers[k] == GFMD_SOLVER_NEWTON && adhesion))
+                    continue;
                 for (int j = 0; j < k && solvers[k] == GFMD_SOLVER_AUTO; ++j)
                     if (runs[j].total >= 0 && solvers[j] == same) runs[k] = runs[j];
                 if (runs[k].total < 0) runs[k] = sweep_continue(s, solvers[k], loads, first);
@@ -1081,7 +1090,7 @@ int main(int argc, char **argv) {
     int choices = 0, nchoice_loads = 0, ngaps = 0, random_bodies = 0;
     unsigned long long random_seed = 1;
     double cg_seconds = 120.0, sigma0 = 0.05, bonded_nu = NAN, first_tol = 0.0, sweep_from = 0.0, below = 1.0;
-    int levels = 3, levers = 15, columns = 31, substrate_given = 0;
+    int levels = 3, levers = 15, columns = 63, substrate_given = 0;
     int32_t solver = GFMD_SOLVER_AUTO;
     for (int i = 1; i < argc; ++i) {
         if (!strcmp(argv[i], "--sizes") && i + 1 < argc) nsizes = parse_list(argv[++i], sizes, 7), sizes_given = 1;

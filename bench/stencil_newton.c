@@ -37,6 +37,11 @@
  * --first: the methods relax the first load instead, from the library's flat start, and are timed
  * against the library's first load (from --levels grids, coarser ones included) and compared with
  * its equilibrium there (the library's continuing load is then not run).
+ * --coarse-start (with --first and --levels L >= 2): the methods start the first load instead where
+ * the library's multilevel start leaves its finest grid, the body relaxed by the library on the grid
+ * coarsened by 2 (itself from L - 2 coarser grids; substrate filtered through its spectrum, the
+ * surface interpolated by zero padding and lifted onto the substrate, as gfmd_relax_multilevel
+ * does) — that coarse part timed and counted in each method's seconds.
  * The cycle runs in single precision (stencil_mg.h).
  * It prints each method's time beside the library's, its parts (FFT pairs, cycles, assembly) in
  * bare pairs of the same run, and fails (exit 1) unless each meets the criterion and its contact
@@ -73,6 +78,7 @@ static int curvature = 1; /* the adhesive law's curvature in the Newton method's
  * (0: off) */
 static double trust = 0.0, trust_min = 0.0;
 static int first_load = 0; /* --first: the methods relax the first load from the library's flat start */
+static int coarse_start = 0; /* --coarse-start: ... from the library's coarser grids' start instead */
 static const double *h;   /* the substrate */
 
 /* y = K x (x and y may not alias: out of place as the library's step) */
@@ -264,7 +270,7 @@ static long newton_direction(const double *g, const double *e, double radius, do
 static void usage(const char *name) {
     fprintf(stderr,
             "usage: %s [--n N] [--W W] [--areas A0,A1] [--gamma0 G --rho R] [--nu S] [--tol T] [--levels L]\n"
-            "       [--methods newton,fire,pcg] [--no-curvature] [--rtol R] [--trust R0,RMIN] [--first] [--verbose]\n",
+            "       [--methods newton,fire,pcg] [--no-curvature] [--rtol R] [--trust R0,RMIN] [--first [--coarse-start]] [--verbose]\n",
             name);
     exit(2);
 }
@@ -277,6 +283,64 @@ static void usage(const char *name) {
             return 1;                                                                                                  \
         }                                                                                                              \
     } while (0)
+
+/* The modes two grids share (strictly below the smaller grid's Nyquist frequencies), from the half
+ * spectrum of a side nf grid to that of a side nt grid, scaled; the rest of the target zeroed (as the
+ * library's multilevel start: restriction filters, prolongation pads with zeros). */
+static void shared_modes(int nf, const fftw_complex *from, int nt, fftw_complex *to, double scale) {
+    const int ns = nf < nt ? nf : nt;
+    memset(to, 0, (size_t)nt * (nt / 2 + 1) * sizeof(fftw_complex));
+    for (int ky = -(ns / 2 - 1); ky <= ns / 2 - 1; ky++) {
+        const size_t rf = (size_t)(ky < 0 ? nf + ky : ky) * (nf / 2 + 1), rt = (size_t)(ky < 0 ? nt + ky : ky) * (nt / 2 + 1);
+        for (int kx = 0; 2 * kx < ns; kx++) {
+            to[rt + kx][0] = scale * from[rf + kx][0];
+            to[rt + kx][1] = scale * from[rf + kx][1];
+        }
+    }
+}
+
+/* --coarse-start: the surface with which gfmd_relax_multilevel(levels) starts its finest grid — the
+ * body (the substrate filtered to the grid coarsened by 2, at the load sigma0) relaxed by the
+ * library from levels - 1 grids, interpolated to this grid and lifted onto the substrate — into z;
+ * the seconds it took (planning included) and the coarse grids' steps. */
+static int coarse_surface(double W, int levels, double sigma0, double tol, double *z, double *seconds,
+                          int64_t *steps) {
+    const double t0 = now();
+    const int m = n / 2;
+    const size_t N = (size_t)n * n, M = (size_t)m * m;
+    double *buf = fftw_alloc_real(N), *zc = fftw_alloc_real(M);
+    fftw_complex *fs = fftw_alloc_complex((size_t)n * (n / 2 + 1)), *cs = fftw_alloc_complex((size_t)m * (m / 2 + 1));
+    if (!buf || !zc || !fs || !cs) return 1;
+    const fftw_plan fwd = fftw_plan_dft_r2c_2d(n, n, buf, fs, FFTW_ESTIMATE),
+                    bwd = fftw_plan_dft_c2r_2d(n, n, fs, buf, FFTW_ESTIMATE),
+                    cfwd = fftw_plan_dft_r2c_2d(m, m, zc, cs, FFTW_ESTIMATE),
+                    cbwd = fftw_plan_dft_c2r_2d(m, m, cs, zc, FFTW_ESTIMATE);
+    memcpy(buf, h, N * sizeof(double));
+    fftw_execute(fwd);
+    shared_modes(n, fs, m, cs, 1.0 / (double)N);
+    fftw_execute(cbwd); /* zc: the substrate filtered */
+    gfmd_sim *c = NULL;
+    int64_t own = 0, below = 0;
+    CHECK(gfmd_sim_create_ex(m, m, n, n, 1, GFMD_PLANNER_ESTIMATE, &c));
+    CHECK(gfmd_set_modulus(c, 1.0));
+    CHECK(gfmd_set_green(c, GFMD_GREEN_LAYER_FLUID, 4.0 * W));
+    CHECK(gfmd_set_heights(c, zc));
+    if (gam > 0) CHECK(gfmd_set_adhesion(c, gam, rho_));
+    CHECK(gfmd_set_pressure(c, sigma0));
+    CHECK(gfmd_relax_multilevel(c, tol, 10000000, levels - 1, &own, &below));
+    CHECK(gfmd_get_surface(c, zc));
+    gfmd_sim_destroy(&c);
+    fftw_execute(cfwd);
+    shared_modes(m, cs, n, fs, 1.0 / (double)M);
+    fftw_execute(bwd);
+    for (size_t p = 0; p < N; p++) z[p] = fmax(buf[p], h[p]);
+    const fftw_plan plans[] = {fwd, bwd, cfwd, cbwd};
+    for (int k = 0; k < 4; k++) fftw_destroy_plan(plans[k]);
+    fftw_free(buf), fftw_free(zc), fftw_free(fs), fftw_free(cs);
+    *steps = own + below;
+    *seconds = now() - t0;
+    return 0;
+}
 
 int main(int argc, char **argv) {
     double W = 0.088, area0 = 0.004, area1 = 0.008, tol = 1e-6;
@@ -299,6 +363,7 @@ int main(int argc, char **argv) {
         }
         else if (!strcmp(argv[i], "--rtol") && i + 1 < argc) cg_rtol = atof(argv[++i]);
         else if (!strcmp(argv[i], "--first")) first_load = 1;
+        else if (!strcmp(argv[i], "--coarse-start")) coarse_start = 1;
         else if (!strcmp(argv[i], "--verbose")) verbose = 1;
         else if (!strcmp(argv[i], "--methods") && i + 1 < argc) {
             n_methods = 0;
@@ -313,9 +378,9 @@ int main(int argc, char **argv) {
     }
     if (n < 32 || (n & (n - 1)) || !(W > 0) || !(area0 > 0 && area0 < area1 && area1 < 1) || !(gam >= 0) ||
         !(rho_ > 0) || nu < 1 || nu > 8 || !(tol > 0) || !(cg_rtol > 0 && cg_rtol < 1) || levels < 1 || levels > 8 ||
-        !(trust >= 0 && trust_min >= 0 && trust_min <= trust)) {
+        !(trust >= 0 && trust_min >= 0 && trust_min <= trust) || (coarse_start && (!first_load || levels < 2))) {
         fprintf(stderr, "stencil_newton: N a power of 2 >= 32, W > 0, 0 < A0 < A1 < 1, G >= 0, R > 0, 1 <= S <= 8, "
-                        "T > 0, 0 < R < 1, 1 <= L <= 8, 0 <= RMIN <= R0\n");
+                        "T > 0, 0 < R < 1, 1 <= L <= 8, 0 <= RMIN <= R0, --coarse-start with --first and L >= 2\n");
         return 2;
     }
     const size_t N = (size_t)n * n, nc = (size_t)n * (n / 2 + 1);
@@ -379,6 +444,17 @@ int main(int argc, char **argv) {
     /* what the methods relax and are compared with: the continuing load from the first's equilibrium,
      * or (--first) the first load from the flat start */
     const double *start = first_load ? zf : z0, *ref = first_load ? z0 : z1;
+    double t_coarse = 0.0;
+    if (coarse_start) {
+        int64_t coarse_steps = 0;
+        if (coarse_surface(W, levels, sigma0, tol, zf, &t_coarse, &coarse_steps)) {
+            fprintf(stderr, "stencil_newton: the coarse start failed\n");
+            return 1;
+        }
+        printf("coarse start (the library on %d grids from %d^2, interpolated): %lld steps, %.2f s, "
+               "counted in each method's seconds\n",
+               levels - 1, n / 2, (long long)coarse_steps, t_coarse);
+    }
     const double area_ref = first_load ? area_first : area_lib, t_ref = first_load ? t_first : t_lib;
 
     /* the stiffness on the half spectrum, and the stencil's scale c0: least squares in the relative
@@ -541,7 +617,7 @@ int main(int argc, char **argv) {
                 else if (alpha < 1.0) radius = fmax(alpha * dmax, trust_min * rho_);
             }
         }
-        const double t_newton = now() - t0;
+        const double t_newton = now() - t0 + t_coarse;
         /* against the library's equilibrium */
         size_t contacts = 0;
         double dz = 0.0;
@@ -559,7 +635,7 @@ int main(int argc, char **argv) {
                "the rest %.0f); library %.2f s = %.0f pairs: %.2fx\n",
                t_pair, NAMES[methods[k]], t_newton, t_newton / t_pair, (double)pairs, t_cycles, t_cycles / t_pair,
                t_assembly,
-               t_assembly / t_pair, (t_newton - t_cycles - t_assembly) / t_pair - (double)pairs, t_ref, t_ref / t_pair,
+               t_assembly / t_pair, (t_newton - t_coarse - t_cycles - t_assembly) / t_pair - (double)pairs, t_ref, t_ref / t_pair,
                t_ref / t_newton);
         if (!(res <= scale))
             fprintf(stderr, "stencil_newton: %s not converged (residual %g > %g)\n", NAMES[methods[k]], res, scale),
