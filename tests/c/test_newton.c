@@ -2,7 +2,7 @@
  * where the library's CG ends (a second algorithm: the same convex problem, the same test), from a
  * flat start, on a continuing load and from coarser grids; repeat bit for bit across thread counts
  * and through a checkpoint; and refuse, with GFMD_ERR_STATE and nothing changed, every body and
- * grid it does not take. */
+ * grid it does not take.  The default's choice of it: test_api (automatic_choice_newton). */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -207,36 +207,6 @@ static void refuses_what_it_does_not_take(void **state) {
     gfmd_sim_destroy(&twin);
 }
 
-/* The default's choice for a thin sheet's load that continues from a deformed surface (w = 0.352 a,
- * q_max w = 1.6): the Newton method from 1024^2 on while Persson's A/A0 < 0.15, not above, not on a
- * smaller grid (docs/performance.md, "The active-set Newton method in the library"). */
-static int32_t continuing_choice(int64_t n, double area) {
-    gfmd_sim *s = NULL;
-    assert_int_equal(gfmd_sim_create_ex(n, n, (double)n, (double)n, 1, GFMD_PLANNER_ESTIMATE, &s), GFMD_OK);
-    TS_OK(s, gfmd_generate_selfaffine(s, 0.8, n / 8.0, 4.0, 1.0, 5, GFMD_DIST_UNIFORM));
-    TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 0.352));
-    double first = 0.0, load = 0.0;
-    TS_OK(s, gfmd_persson_load(s, 0.004, &first));
-    TS_OK(s, gfmd_persson_load(s, area, &load));
-    TS_OK(s, gfmd_set_pressure(s, first));
-    int32_t solver = -1;
-    TS_OK(s, gfmd_get_solver(s, &solver));
-    assert_int_equal(solver, GFMD_SOLVER_CG); /* flat */
-    TS_OK(s, gfmd_step(s, 1));
-    TS_OK(s, gfmd_set_pressure(s, load)); /* continuing from a deformed surface */
-    TS_OK(s, gfmd_get_solver(s, &solver));
-    gfmd_sim_destroy(&s);
-    return solver;
-}
-
-static void automatic_choice(void **state) {
-    (void)state;
-    assert_int_equal(continuing_choice(1024, 0.01), GFMD_SOLVER_NEWTON);
-    assert_int_equal(continuing_choice(1024, 0.14), GFMD_SOLVER_NEWTON);
-    assert_int_equal(continuing_choice(1024, 0.16), GFMD_SOLVER_FIRE);
-    assert_int_equal(continuing_choice(512, 0.01), GFMD_SOLVER_FIRE_MASS);
-}
-
 /* Its 88 bytes per point that cannot be had: GFMD_ERR_NOMEM and the solver unchanged.  In a child
  * process whose address space is capped just above what it uses and then filled (not under the
  * sanitizers or valgrind, which need address space of their own). */
@@ -268,7 +238,6 @@ int main(void) {
         cmocka_unit_test(deterministic),
         cmocka_unit_test(refuses_what_it_does_not_take),
         cmocka_unit_test(without_memory),
-        cmocka_unit_test(automatic_choice),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
