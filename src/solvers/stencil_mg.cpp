@@ -9,8 +9,10 @@ namespace gfmd {
 namespace {
 // Built for the baseline x86-64 and for x86-64-v3 (AVX2), chosen by the CPU at load time, as the
 // library's kernels are (kernels_dispatch.cpp): the cycle's row loops are bound by memory traffic,
-// and the wider lanes halve their instructions.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
+// and the wider lanes halve their instructions.  Not in the sanitizers' builds: an ifunc resolver
+// runs before ThreadSanitizer's runtime is set up and crashed test_threads at its start.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__) && \
+    !defined(__SANITIZE_THREAD__)
 #define GFMD_CLONES __attribute__((target_clones("default", "arch=x86-64-v3")))
 #else
 #define GFMD_CLONES

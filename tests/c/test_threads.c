@@ -75,11 +75,11 @@ static void thread_count_does_not_change_the_equilibrium(void **state) {
     const struct {
         int32_t solver;
         int64_t n;
-    } runs[3] = {{GFMD_SOLVER_FIRE, 256}, {GFMD_SOLVER_FIRE_MASS, 128}, {GFMD_SOLVER_CG, 128}};
+    } runs[4] = {{GFMD_SOLVER_FIRE, 256}, {GFMD_SOLVER_FIRE_MASS, 128}, {GFMD_SOLVER_CG, 128}, {GFMD_SOLVER_NEWTON, 128}};
     /* Under valgrind, which runs the threads one at a time, the 128^2 runs only: FIRE's 256^2 pair of
      * relaxes (most of the test's time there) takes the same calls through more blocks per thread,
      * whose sharing ThreadSanitizer checks on this test, and ASan with it. */
-    for (int r = ts_valgrind() ? 1 : 0; r < 3; ++r) {
+    for (int r = ts_valgrind() ? 1 : 0; r < 4; ++r) {
         const int32_t solver = runs[r].solver;
         const int64_t n = runs[r].n;
         double area[2], gap[2];
