@@ -730,6 +730,7 @@ static int32_t thin_continuing_choice(int64_t n, double lambda_s, double width) 
  * library"; test_newton has the method itself). */
 static void automatic_choice_newton(void **state) {
     (void)state;
+    if (ts_valgrind()) skip(); /* four 1024^2 handles: 20 s there; the rule is arithmetic, run natively and under the sanitizers */
     assert_int_equal(thin_continuing_choice_at(1024, 4.0, 0.352, 0.01), GFMD_SOLVER_NEWTON);
     assert_int_equal(thin_continuing_choice_at(1024, 4.0, 0.352, 0.14), GFMD_SOLVER_NEWTON);
     assert_int_equal(thin_continuing_choice_at(1024, 4.0, 0.352, 0.16), GFMD_SOLVER_FIRE);

@@ -209,6 +209,41 @@ static void refuses_what_it_does_not_take(void **state) {
     gfmd_sim_destroy(&twin);
 }
 
+/* docs/guarantees.md: a change of units by powers of two gives the same steps and bits; others
+ * round differently and agree to the tolerance.  The thin sheet of agrees_with_cg (W = 0.088) in
+ * E* = 1, a = 1; E* = 2^37, a = 2^-23; E* = 2e11, a = 1.5625e-7 (SI on a cell of micrometres). */
+static void relax_in_units(double e_star, double a, double out[5]) {
+    gfmd_sim *s = NULL;
+    assert_int_equal(gfmd_sim_create_ex(N, N, N * a, N * a, 1, GFMD_PLANNER_ESTIMATE, &s), GFMD_OK);
+    TS_OK(s, gfmd_set_modulus(s, e_star));
+    TS_OK(s, gfmd_generate_selfaffine(s, 0.8, N * a / 4.0, 4.0 * a, 1.0, 11, GFMD_DIST_UNIFORM));
+    TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 0.352 * a));
+    TS_OK(s, gfmd_set_pressure(s, 2e-5 * e_star));
+    TS_OK(s, gfmd_set_solver(s, GFMD_SOLVER_NEWTON));
+    int64_t steps = 0;
+    TS_OK(s, gfmd_relax(s, 1e-10, 10000, &steps));
+    double area, gap, u_el, u_ad;
+    TS_OK(s, gfmd_get_contact_area(s, &area));
+    TS_OK(s, gfmd_get_mean_gap(s, &gap));
+    TS_OK(s, gfmd_get_energies(s, &u_el, &u_ad));
+    const double o[5] = {(double)steps, area, gap / a, u_el / (e_star * a * a * a), 0.0};
+    memcpy(out, o, sizeof o);
+    gfmd_sim_destroy(&s);
+}
+
+static void units_do_not_matter(void **state) {
+    (void)state;
+    double ref[5], pow2[5], si[5];
+    relax_in_units(1.0, 1.0, ref);
+    relax_in_units(0x1p37, 0x1p-23, pow2);
+    assert_memory_equal(ref, pow2, sizeof ref);
+    if (ts_valgrind()) return; /* the units that are not powers of two: the same code (as test_units) */
+    relax_in_units(2e11, 1.5625e-7, si);
+    /* two relaxes to 1e-10: the contact set within a point or two, gap and energy to 1e-9 */
+    assert_true(fabs(si[1] - ref[1]) * N * N <= 2.0);
+    assert_true(fabs(si[2] - ref[2]) <= 1e-9 * fabs(ref[2]) && fabs(si[3] - ref[3]) <= 1e-9 * fabs(ref[3]));
+}
+
 /* Its 88 bytes per point that cannot be had: GFMD_ERR_NOMEM and the solver unchanged.  In a child
  * process whose address space is capped just above what it uses and then filled (not under the
  * sanitizers or valgrind, which need address space of their own). */
@@ -240,6 +275,7 @@ int main(void) {
         cmocka_unit_test(deterministic),
         cmocka_unit_test(refuses_what_it_does_not_take),
         cmocka_unit_test(without_memory),
+        cmocka_unit_test(units_do_not_matter),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
