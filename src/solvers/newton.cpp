@@ -17,18 +17,16 @@ constexpr int kMaxHalvings = 20;  // alpha down to 2^-20, about 1e-6 (the measur
 
 // c0 of the stencil c0 L^2 fitted to k(q) in relative error over the modes with a stiffness:
 // minimizes sum (c0 y - 1)^2, y = lambda^2 / k, lambda = 4 - 2 cos(qx a) - 2 cos(qy a) the
-// 5-point -Laplacian's symbol in units of the spacing a.
+// 5-point -Laplacian's symbol in units of the spacing a.  A function of the body alone.
 double stencil_scale(const FftGrid &grid, const Body &body) {
     const int64_t nxh = grid.nxh();
     const double a = grid.lx() / static_cast<double>(grid.nx());
-    std::vector<double> cx(static_cast<std::size_t>(nxh));
-    for (int64_t kx = 0; kx < nxh; ++kx) cx[static_cast<std::size_t>(kx)] = 2.0 - 2.0 * std::cos(grid.qx(kx) * a);
     const double *stiff = body.stiffness.data();
     const auto s = grid.sum_mode_rows<2>([&](int64_t r0, int64_t r1, double *acc) {
         for (int64_t r = r0; r < r1; ++r) {
             const double cy = 2.0 - 2.0 * std::cos(grid.qy(grid.first_mode_row() + r) * a);
             for (int64_t kx = 0; kx < nxh; ++kx) {
-                const double k = stiff[r * nxh + kx], lam = cx[static_cast<std::size_t>(kx)] + cy;
+                const double k = stiff[r * nxh + kx], lam = 2.0 - 2.0 * std::cos(grid.qx(kx) * a) + cy;
                 if (!(k > 0.0)) continue;
                 const double y = lam * lam / k;
                 acc[0] += y;
@@ -40,14 +38,18 @@ double stencil_scale(const FftGrid &grid, const Body &body) {
 }
 }  // namespace
 
-const char *newton_refusal(const FftGrid &grid, const Params &p) {
-    if (p.kind != GFMD_GREEN_LAYER_FLUID) return "the Newton solver takes a layer on a fluid foundation only";
-    if (p.gamma0 > 0.0) return "the Newton solver does not take adhesion";
-    if (p.control != kPressureControl) return "the Newton solver takes pressure control only";
+const char *newton_grid_refusal(const FftGrid &grid) {
     if (grid.distributed()) return "the Newton solver runs on one process only";
     if (grid.nx() != grid.ny() || !StencilMultigrid::fits(grid.nx()) || grid.lx() != grid.ly())
         return "the Newton solver needs a square grid of square cells whose side is a power of 2 >= 32";
     return "";
+}
+
+const char *newton_refusal(const FftGrid &grid, const Params &p) {
+    if (p.kind != GFMD_GREEN_LAYER_FLUID) return "the Newton solver takes a layer on a fluid foundation only";
+    if (p.gamma0 > 0.0) return "the Newton solver does not take adhesion";
+    if (p.control != kPressureControl) return "the Newton solver takes pressure control only";
+    return newton_grid_refusal(grid);
 }
 
 double ActiveSetNewton::bytes_per_point() { return 3 * 8.0 + 1.0 + StencilMultigrid::bytes_per_point(); }
@@ -88,7 +90,8 @@ void ActiveSetNewton::advance(StepContext &c) {
     })[0];
     if (!(b2 > 0.0)) return;  // nothing moves: the caller's test stops
     mg_.follow(held);
-    const double c0 = stencil_scale(grid, c.body);
+    if (!(c0_ > 0.0)) c0_ = stencil_scale(grid, c.body);  // once per restart (a new body restarts the solver)
+    const double c0 = c0_;
     const auto precondition = [&] {  // s = M^-1 r, returns r.s
         mg_.apply_inverse(r, c0, s);
         return grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {

@@ -25,8 +25,10 @@
 
 namespace gfmd {
 
-// Why the Newton method cannot run the body p on the grid (an empty string if it can).
+// Why the Newton method cannot run the body p on the grid (an empty string if it can); its grid's
+// part alone.
 const char *newton_refusal(const FftGrid &grid, const Params &p);
+const char *newton_grid_refusal(const FftGrid &grid);
 
 class ActiveSetNewton final : public Solver {
 public:
@@ -34,15 +36,17 @@ public:
     static double bytes_per_point();
     // Throws std::bad_alloc.  The grid must be one newton_refusal() takes.
     explicit ActiveSetNewton(int64_t side);
-    void restart(const Dynamics &) override {}
+    void restart(const Dynamics &) override { c0_ = 0.0; }
     void advance(StepContext &c) override;
     std::unique_ptr<Solver> clone() const override { return std::make_unique<ActiveSetNewton>(side_); }
-    // No adaptive state: a step is a function of z alone (the cycle's operators of its held set).
+    // No adaptive state: a step is a function of z and the body alone (the cycle's operators of its
+    // held set, c0 of the body: both derived, made again after a restart or a load).
     std::vector<double> state() const override { return {}; }
     void set_state(const std::vector<double> &s) override;
 
 private:
     int64_t side_;
+    double c0_ = 0.0;  // the stencil's scale for the body (0: not yet computed since the restart)
     RealBuffer r_, p_, s_;  // the CG's residual, direction and preconditioned residual (or K p)
     ByteBuffer held_;
     StencilMultigrid mg_;

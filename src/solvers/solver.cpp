@@ -28,9 +28,8 @@ namespace {
 // (the body's part of newton_refusal() the caller checked: the grid's is checked here too, so that
 // no caller can make the cycle for a grid it cannot take)
 std::unique_ptr<Solver> make_newton(const FftGrid &grid) {
-    if (grid.distributed() || grid.nx() != grid.ny() || !StencilMultigrid::fits(grid.nx()) || grid.lx() != grid.ly())
-        fail(GFMD_ERR_STATE, "the Newton solver needs a square grid of square cells whose side is a power of 2 >= 32, "
-                             "on one process");
+    const std::string why = newton_grid_refusal(grid);
+    if (!why.empty()) fail(GFMD_ERR_STATE, why);
     check_memory(grid.nx(), grid.ny(), ActiveSetNewton::bytes_per_point());
     return std::make_unique<ActiveSetNewton>(grid.nx());
 }
