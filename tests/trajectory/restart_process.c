@@ -11,7 +11,7 @@
  * Then the same for an adhesive thin sheet at a low load, where the default is mass-weighted FIRE
  * (asserted; q_max w = 1.1 < 4): saved after 60 steps, with the frequency estimates of the contact
  * buckets entered so far in its state, resumed for 80 more (<dir>/sheet.gfmd, sheet_straight.bin,
- * sheet_resumed.bin). */
+ * sheet_resumed.bin); and the Newton solver on a square thin sheet (newton.gfmd, newton_*.bin). */
 #include <gfmd.h>
 #include <stdio.h>
 #include <string.h>
@@ -26,15 +26,18 @@ static int ok(gfmd_sim *s, int32_t st, const char *what) {
     return 0;
 }
 
-static int write_z(gfmd_sim *s, const char *dir, const char *name) {
-    static double z[NX * NY];
+/* the surface of an NX x ny grid (ny <= NX) into dir/name */
+static int write_z_of(gfmd_sim *s, int64_t ny, const char *dir, const char *name) {
+    static double z[NX * NX];
     char path[1024];
     snprintf(path, sizeof path, "%s/%s", dir, name);
     FILE *f = fopen(path, "wb");
-    int good = f && ok(s, gfmd_get_surface(s, z), "surface") && fwrite(z, sizeof z, 1, f) == 1;
+    int good = f && ok(s, gfmd_get_surface(s, z), "surface") && fwrite(z, sizeof z[0] * (size_t)(NX * ny), 1, f) == 1;
     if (f) fclose(f);
     return good;
 }
+
+static int write_z(gfmd_sim *s, const char *dir, const char *name) { return write_z_of(s, NY, dir, name); }
 
 static int solver_is(const gfmd_sim *s, int32_t expected) {
     int32_t solver = -1;
@@ -47,29 +50,53 @@ static int solver_is(const gfmd_sim *s, int32_t expected) {
 
 static int is_cg(const gfmd_sim *s) { return solver_is(s, GFMD_SOLVER_CG); }
 
-/* The thin sheet: w = 0.25 on a fluid foundation (f(q_min w) = 2e5), adhesive, Persson's A/A0 0.05. */
-static int sheet(const char *dir, int resume) {
-    char path[1024];
-    snprintf(path, sizeof path, "%s/sheet.gfmd", dir);
+/* A thin sheet on a fluid foundation, saved after `before` steps and resumed for `after` more
+ * (<dir>/NAME.gfmd, NAME_straight.bin, NAME_resumed.bin), its solver asserted on both sides. */
+typedef struct {
+    const char *name;
+    int64_t ny;
+    double width, gamma0, pressure;
+    int32_t set, expected; /* the solver set (-1: the default) and the one that must step */
+    int64_t before, after;
+} sheet_run;
+
+static int sheet(const sheet_run *c, const char *dir, int resume) {
+    char path[1024], straight[256], resumed[256];
+    snprintf(path, sizeof path, "%s/%s.gfmd", dir, c->name);
+    snprintf(straight, sizeof straight, "%s_straight.bin", c->name);
+    snprintf(resumed, sizeof resumed, "%s_resumed.bin", c->name);
     gfmd_sim *s = NULL;
     int good;
     if (!resume) {
-        good = ok(NULL, gfmd_sim_create_ex(NX, NY, NX, NY, 1, GFMD_PLANNER_ESTIMATE, &s), "create sheet") &&
+        good = ok(NULL, gfmd_sim_create_ex(NX, c->ny, NX, (double)c->ny, 1, GFMD_PLANNER_ESTIMATE, &s), "create sheet") &&
                ok(s, gfmd_generate_selfaffine(s, 0.8, 16.0, 4.0, 0.1, 9, GFMD_DIST_UNIFORM), "sheet surface") &&
-               ok(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 0.25), "sheet body") &&
-               ok(s, gfmd_set_adhesion(s, 1e-4, 0.5), "sheet adhesion") &&
-               ok(s, gfmd_set_pressure(s, 1e-5), "sheet pressure") && solver_is(s, GFMD_SOLVER_FIRE_MASS) &&
-               ok(s, gfmd_step(s, 60), "sheet steps") && ok(s, gfmd_sim_save(s, path), "save sheet") &&
-               ok(s, gfmd_step(s, 80), "sheet steps") && write_z(s, dir, "sheet_straight.bin");
+               ok(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, c->width), "sheet body") &&
+               (c->gamma0 == 0.0 || ok(s, gfmd_set_adhesion(s, c->gamma0, 0.5), "sheet adhesion")) &&
+               ok(s, gfmd_set_pressure(s, c->pressure), "sheet pressure") &&
+               (c->set < 0 || ok(s, gfmd_set_solver(s, c->set), "sheet solver")) && solver_is(s, c->expected) &&
+               ok(s, gfmd_step(s, c->before), "sheet steps") && ok(s, gfmd_sim_save(s, path), "save sheet") &&
+               ok(s, gfmd_step(s, c->after), "sheet steps") && write_z_of(s, c->ny, dir, straight);
     } else {
         char msg[256] = "";
         const int32_t st = gfmd_sim_load(path, &s, msg, sizeof msg);
         if (st != GFMD_OK) fprintf(stderr, "restart_process: load sheet: %s\n", msg);
-        good = st == GFMD_OK && solver_is(s, GFMD_SOLVER_FIRE_MASS) && ok(s, gfmd_step(s, 80), "sheet steps") &&
-               write_z(s, dir, "sheet_resumed.bin");
+        good = st == GFMD_OK && solver_is(s, c->expected) && ok(s, gfmd_step(s, c->after), "sheet steps") &&
+               write_z_of(s, c->ny, dir, resumed);
     }
     gfmd_sim_destroy(&s);
     return good;
+}
+
+/* The adhesive thin sheet: w = 0.25 (f(q_min w) = 2e5), Persson's A/A0 0.05, the default's
+ * mass-weighted FIRE; and the Newton solver on a square grid without adhesion (w = 0.35, a stateless
+ * solver whose cycle is rebuilt from the loaded surface: 2 steps, then 3). */
+static const sheet_run SHEETS[2] = {
+    {"sheet", NY, 0.25, 1e-4, 1e-5, -1, GFMD_SOLVER_FIRE_MASS, 60, 80},
+    {"newton", NX, 0.35, 0.0, 2e-5, GFMD_SOLVER_NEWTON, GFMD_SOLVER_NEWTON, 2, 3},
+};
+
+static int sheets(const char *dir, int resume) {
+    return sheet(&SHEETS[0], dir, resume) && sheet(&SHEETS[1], dir, resume);
 }
 
 int main(int argc, char **argv) {
@@ -87,7 +114,7 @@ int main(int argc, char **argv) {
                    ok(s, gfmd_sim_save(s, ckpt), "save") && ok(s, gfmd_export_wisdom(wisdom), "export wisdom") &&
                    ok(s, gfmd_step(s, 50), "steps") && write_z(s, dir, "z_straight.bin");
         gfmd_sim_destroy(&s);
-        return good && sheet(dir, 0) ? 0 : 1;
+        return good && sheets(dir, 0) ? 0 : 1;
     }
     if (!strcmp(argv[1], "resume")) {
         char msg[256] = "";
@@ -96,7 +123,7 @@ int main(int argc, char **argv) {
         if (st != GFMD_OK) fprintf(stderr, "restart_process: load: %s\n", msg);
         good = good && st == GFMD_OK && is_cg(s) && ok(s, gfmd_step(s, 50), "steps") && write_z(s, dir, "z_resumed.bin");
         gfmd_sim_destroy(&s);
-        return good && sheet(dir, 1) ? 0 : 1;
+        return good && sheets(dir, 1) ? 0 : 1;
     }
     return 2;
 }
