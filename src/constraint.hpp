@@ -1,4 +1,4 @@
-// Displacement control: the constraint mean(z) = d beside z >= h.
+// The wall z >= h, and displacement control: the constraint mean(z) = d beside it.
 #ifndef GFMD_SRC_CONSTRAINT_HPP
 #define GFMD_SRC_CONSTRAINT_HPP
 
@@ -6,6 +6,11 @@
 #include "fields.hpp"
 
 namespace gfmd {
+
+// A point the wall holds: at the wall and pressed onto it (its projected force is zero; a CG's
+// direction or a Newton step's block must not move it).  The surface CG's and the Newton method's
+// one definition of their held set.
+inline bool held_by_wall(double z, double h, double f) { return z <= h && f <= 0.0; }
 
 // The nearest configuration (Euclidean) with mean(z) = d and z >= h: z_i = max(h_i, z_i + c) with
 // the one shift c that gives the mean (found by Newton's method on the convex, piecewise linear

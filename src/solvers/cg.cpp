@@ -7,16 +7,13 @@
 
 #include <utility>
 
+#include "../constraint.hpp"
 #include "../error.hpp"
 #include "../kernels.hpp"
 
 namespace gfmd {
 
 namespace {
-// A point the wall holds: at the wall and pressed onto it (the projected force is zero there and
-// the CG direction must not move it).
-inline bool held_by_wall(double z, double h, double f) { return z <= h && f <= 0.0; }
-
 // The checked step (sufficient_decrease, below)
 constexpr double kArmijo = 1e-4;
 constexpr int kMaxBacktracks = 30;

@@ -4,6 +4,7 @@
 #include <complex>
 #include <vector>
 
+#include "../constraint.hpp"
 #include "../error.hpp"
 #include "../kernels.hpp"
 
@@ -81,7 +82,7 @@ void ActiveSetNewton::advance(StepContext &c) {
     const double b2 = grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
         double t = 0.0;
         for (int64_t i = i0; i < i1; ++i) {
-            held[i] = (z[i] <= h[i] && f[i] <= 0.0) ? 1 : 0;
+            held[i] = held_by_wall(z[i], h[i], f[i]) ? 1 : 0;
             r[i] = held[i] ? 0.0 : f[i];
             d[i] = 0.0;
             t += r[i] * r[i];
