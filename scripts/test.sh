@@ -73,8 +73,13 @@ cmake --build "$root/build" -j "$jobs"
 if [ "${1:-}" = "--quick" ]; then run_ctest "$root/build"; summary; exit $?; fi
 # (the build functions chain their commands with &&: set -e does not act in a function called
 # from the left of ||, as in_background calls them)
+# The sanitizer builds with -g1, not Debug's -g: the reports keep their functions, files and lines
+# (line tables), without the variables' and types' debug information, which took a sixth of the
+# build's CPU time (the ASan + UBSan build on 2 cores: 84 s wall, 159 s user + sys with -g; 70 s,
+# 131 s with -g1)
+debug_flags=(-DCMAKE_C_FLAGS_DEBUG=-g1 -DCMAKE_CXX_FLAGS_DEBUG=-g1 -DCMAKE_Fortran_FLAGS_DEBUG=-g1)
 sanitize_build() {
-  cmake -S "$root" -B "$root/build-sanitize" -DCMAKE_BUILD_TYPE=Debug -DGFMD_SANITIZE=ON -DGFMD_BUILD_MPI=ON &&
+  cmake -S "$root" -B "$root/build-sanitize" -DCMAKE_BUILD_TYPE=Debug "${debug_flags[@]}" -DGFMD_SANITIZE=ON -DGFMD_BUILD_MPI=ON &&
     cmake --build "$root/build-sanitize" -j "$jobs"
 }
 echo "== the AddressSanitizer + UndefinedBehaviorSanitizer build begins in the background [at $(elapsed)]"
@@ -84,7 +89,7 @@ run_ctest "$root/build"
 echo "== AddressSanitizer + UndefinedBehaviorSanitizer build: the test suite [at $(elapsed)]"
 build_wait sanitize
 tsan_build() {
-  cmake -S "$root" -B "$root/build-tsan" -DCMAKE_BUILD_TYPE=Debug -DGFMD_TSAN=ON -DGFMD_BUILD_FORTRAN=OFF \
+  cmake -S "$root" -B "$root/build-tsan" -DCMAKE_BUILD_TYPE=Debug "${debug_flags[@]}" -DGFMD_TSAN=ON -DGFMD_BUILD_FORTRAN=OFF \
     -DGFMD_BUILD_EXAMPLES=OFF -DGFMD_BUILD_BENCHMARK=OFF &&
     cmake --build "$root/build-tsan" -j "$jobs" --target test_threads &&
     "$root/scripts/fuzz.sh" --build
