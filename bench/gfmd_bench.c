@@ -18,10 +18,11 @@
  *   gfmd_bench --multilevel [--sizes 256] [--widths 0.0625,0.125] [--sigma0 S] [--solver fire|mass]
  *                                gfmd_relax_multilevel with 1-4 levels from flat, to 1e-10
  *   gfmd_bench --first-load [--sizes 512,1024,2048] [--widths 0.0625,0.25] [--threads N] [--levels L] [--tol T]
- *              [--adhesion] [--levers fire,mass,multilevel,default]
+ *              [--adhesion | --no-adhesion] [--levers fire,mass,multilevel,default]
  *                                a thin sheet's first load from flat, with and without adhesion
- *                                (--adhesion: with only), by FIRE, mass-weighted FIRE, the
- *                                multilevel start and the default solver (--levers: those only)
+ *                                (--adhesion: with only; --no-adhesion: without only), by FIRE,
+ *                                mass-weighted FIRE, the multilevel start (named by the solver
+ *                                its finest grid took) and the default solver (--levers: those only)
  *   gfmd_bench --sweep [--sizes 2048] [--widths 0.25,1,100] [--threads N]
  *        [--adhesion] [--no-cg] [--verbose] [--from A] [--columns fire,m+fire,mass,cg,newton,auto]
  *        [--substrate H,LS,R,SEED]
@@ -587,7 +588,7 @@ static int parse_names(const char *list, const char *const *names, int count) {
 }
 
 static int first_load_table(const double *sizes, int nsizes, const double *widths, int nwidths, int threads,
-                            int levels, double tol, int adhesive_only, int levers) {
+                            int levels, double tol, int adhesive_only, int plain_only, int levers) {
     const int digits = tol > 0.0 ? 8 : 5;
     if (!(tol > 0.0)) tol = GFMD_DEFAULT_TOL;
     printf("gfmd %s: a thin sheet's first load from flat (Persson A/A0 = 0.004), fluid foundation (w = 4 W a), "
@@ -597,7 +598,7 @@ static int first_load_table(const double *sizes, int nsizes, const double *width
            "s");
     for (int a = 0; a < nsizes; ++a)
         for (int b = 0; b < nwidths; ++b)
-            for (int adh = adhesive_only; adh < 2; ++adh)
+            for (int adh = adhesive_only; adh < (plain_only ? 1 : 2); ++adh)
                 for (int lever = 0; lever < 4; ++lever) {
                     if (!(levers & (1 << lever))) continue;
                     const int n = (int)sizes[a];
@@ -615,11 +616,11 @@ static int first_load_table(const double *sizes, int nsizes, const double *width
                     int32_t active = -1;
                     if (lever == 2) {
                         int64_t coarse = 0;
-                        gfmd_get_solver(s, &active);
                         const double t0 = now();
                         st = gfmd_relax_multilevel(s, tol, 10000000, levels, &steps, &coarse);
                         t = now() - t0;
                         if (st != GFMD_OK) die(s, st, "relax_multilevel");
+                        gfmd_get_solver(s, &active); /* the finest grid's, chosen for its interpolated start */
                         steps += coarse; /* coarse steps are cheaper, counted all the same */
                     } else {
                         /* "to 0.1 %": from the step after which A/A0 stays within 0.1 % of the run's last value */
@@ -1143,7 +1144,7 @@ int main(int argc, char **argv) {
         if (solver < 0 || !(sigma0 > 0.0) || levels < 1 || first_tol < 0.0 || levers < 0 || columns < 0 || random_bodies < 0 || !(below >= 0.0) || gap_rms < 0.0 || positions < 0) {
             fprintf(stderr, "usage: %s [--sizes 256,512,...] [--big] [--widths 0,0.5,1,4] [--threads N] "
                             "[--cg-seconds S] [--no-cg] [--no-alt] [--sigma0 S] [--solver auto|fire|mass|mass+fire|verlet|cg] "
-                            "[--bonded NU] [--adhesion] | --contention | --sweep [--verbose] [--from A] [--columns fire,m+fire,mass,cg,auto] [--substrate H,LS,R,SEED] | --loads L,.. | --choices L,.. [--gaps G,..] | --multilevel | --first-load [--levels L] [--tol T] [--levers fire,mass,multilevel,default] | --big | --displacement [--below B | --gap R [--positions K]] [--no-adhesion] [--bonded NU] | --random K [--seed S]\n", argv[0]);
+                            "[--bonded NU] [--adhesion] | --contention | --sweep [--verbose] [--from A] [--columns fire,m+fire,mass,cg,newton,auto] [--substrate H,LS,R,SEED] | --loads L,.. | --choices L,.. [--gaps G,..] | --multilevel | --first-load [--levels L] [--tol T] [--levers fire,mass,multilevel,default] [--adhesion | --no-adhesion] | --big | --displacement [--below B | --gap R [--positions K]] [--no-adhesion] [--bonded NU] | --random K [--seed S]\n", argv[0]);
             return 2;
         }
     }
@@ -1175,8 +1176,13 @@ int main(int argc, char **argv) {
     }
     if (first_load) {
         const double thin[2] = {0.0625, 0.25}, first_sizes[3] = {512, 1024, 2048};
+        if (adhesion && no_adhesion) {
+            fprintf(stderr, "gfmd_bench: --adhesion and --no-adhesion exclude each other\n");
+            return 2;
+        }
         return first_load_table(sizes_given ? sizes : first_sizes, sizes_given ? nsizes : 3, widths_given ? widths : thin,
-                                widths_given ? nwidths : 2, threads < 1 ? 1 : threads, levels, first_tol, adhesion, levers);
+                                widths_given ? nwidths : 2, threads < 1 ? 1 : threads, levels, first_tol, adhesion,
+                                no_adhesion, levers);
     }
     if (displacement) {
         const double disp_sizes[1] = {256}, disp_widths[6] = {0.25, 1, 4, 8, 16, 0};
