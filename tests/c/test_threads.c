@@ -80,8 +80,8 @@ static void thread_count_does_not_change_the_equilibrium(void **state) {
      * relaxes (most of the test's time there) takes the same calls through more blocks per thread,
      * whose sharing ThreadSanitizer checks on this test, and ASan with it. */
     /* And the Newton method (here for ThreadSanitizer) not under valgrind: test_newton runs it on
-     * 1 and 2 threads there, bit for bit (its first step from flat, a CG to its cap, was 11 of
-     * this test's 25 s under valgrind). */
+     * 1 and 2 threads there, bit for bit (its two relaxes took 12 of this test's 25 s under
+     * valgrind). */
     const int runs_checked = ts_valgrind() ? 3 : 4;
     for (int r = ts_valgrind() ? 1 : 0; r < runs_checked; ++r) {
         const int32_t solver = runs[r].solver;
