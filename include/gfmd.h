@@ -306,12 +306,12 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * sheet's stiffness) on the free points, then moves to max(h, z + alpha d) with alpha halved
  * from 1 until the energy falls enough; one "step" of gfmd_step()/gfmd_relax() is one Newton step,
  * about 10-20 FFT pairs and multigrid cycles (but on a flat surface, which the wall holds at its
- * highest point only, the first step's CG may run to its cap of 500 iterations: start it from a
- * deformed surface or from coarser grids, gfmd_relax_multilevel(), as the default does); it has
- * no state between steps, so chunks and checkpoints follow one call, and results do not depend on
- * the thread count (its cycle runs on one thread).  It takes a layer on a fluid foundation
- * without adhesion under pressure control on one process, on a square grid of square cells whose
- * side is a power of 2 >= 32 --
+ * highest point only, the first steps' CG may take hundreds of iterations, up to its cap of 500:
+ * start it from a deformed surface or coarser grids, gfmd_relax_multilevel(), as the default
+ * does); it has no state between steps, so chunks and checkpoints follow one call, and results do
+ * not depend on the thread count (its cycle runs on one thread).  It takes a layer on a fluid
+ * foundation without adhesion under pressure control on one process, on a square grid of square
+ * cells whose side is a power of 2 >= 32 --
  * GFMD_ERR_STATE, nothing changed, for a call that would set it on another body or grid or bring
  * its body adhesion, displacement control or another Green's function; gfmd_relax_multilevel()
  * takes the default's choice on coarse grids below 32^2.  About 88 bytes per point more
