@@ -314,7 +314,7 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * cells whose side is a power of 2 >= 32 --
  * GFMD_ERR_STATE, nothing changed, for a call that would set it on another body or grid or bring
  * its body adhesion, displacement control or another Green's function; gfmd_relax_multilevel()
- * takes the default's choice on coarse grids below 32^2.  About 88 bytes per point more
+ * takes the default's choice on coarse grids below 32^2.  About 72 bytes per point more
  * (GFMD_ERR_NOMEM, nothing changed, if they cannot be had).  Correct on any such layer, fast
  * where the stencil stands for the stiffness, q_max w < 6 (docs/performance.md)).
  */

@@ -19,6 +19,12 @@ namespace {
 #endif
 
 constexpr int kCoefficients = 25;  // a coarse row: offsets -2..2 in each direction
+// The Galerkin operators are symmetric, A(P, P + o) = A(P + o, P): a row keeps the 13 entries of
+// its forward offsets (dy > 0, or dy = 0 and dx >= 0) and reads the 12 others from the neighbours
+// they belong to -- half the planes, whose reading bounds a coarse level's cycle.
+constexpr int kStored = 13;
+inline bool forward(int dy, int dx) { return dy > 0 || (dy == 0 && dx >= 0); }
+inline int plane(int dy, int dx) { return dy == 0 ? dx : 3 + (dy - 1) * 5 + dx + 2; }  // forward offsets only
 constexpr int64_t kCoarsest = 16;  // the last level's side
 constexpr int kCoarsestSweeps = 40;
 constexpr int kSweeps = 1;  // V(1,1): measured against V(2,2) at 2048^2 (docs/performance.md)
@@ -70,12 +76,15 @@ GFMD_CLONES void coarse_rows(int64_t m, const float *c, const float *x, float *y
         for (int a = -2; a <= 2; a++) {
             const float *row = x + wrap(i + a, m) * m;
             for (int e = -2; e <= 2; e++) {
-                const float *ck = c + ((a + 2) * 5 + e + 2) * mm + i * m;
-                yr[0] += ck[0] * row[wrap(e, m)];
-                yr[1] += ck[1] * row[wrap(1 + e, m)];
-                for (int64_t j = 2; j < m - 2; j++) yr[j] += ck[j] * row[j + e];
-                yr[m - 2] += ck[m - 2] * row[wrap(m - 2 + e, m)];
-                yr[m - 1] += ck[m - 1] * row[wrap(m - 1 + e, m)];
+                // entry (a, e) of row (i, j): its own plane's, or that of (-a, -e) at (i + a, j + e)
+                const bool own = forward(a, e);
+                const float *ck = own ? c + plane(a, e) * mm + i * m : c + plane(-a, -e) * mm + wrap(i + a, m) * m;
+                const int64_t s = own ? 0 : e;
+                yr[0] += ck[wrap(s, m)] * row[wrap(e, m)];
+                yr[1] += ck[wrap(1 + s, m)] * row[wrap(1 + e, m)];
+                for (int64_t j = 2; j < m - 2; j++) yr[j] += ck[j + s] * row[j + e];
+                yr[m - 2] += ck[wrap(m - 2 + s, m)] * row[wrap(m - 2 + e, m)];
+                yr[m - 1] += ck[wrap(m - 1 + s, m)] * row[wrap(m - 1 + e, m)];
             }
         }
         if (mode != 0) {
@@ -97,8 +106,8 @@ constexpr Spread kSpread[7] = {{2, {-2, -1}, 0.5}, {1, {-1, 0}, 1.0}, {2, {-1, 0
 
 double StencilMultigrid::bytes_per_point() {
     // fine: 5 floats, the held copy and the dirty marks; coarse levels (1/3 of the points in all):
-    // 25 coefficients and 5 vectors as floats, the dirty marks; the changed list (1/16 of int64)
-    return 5 * 4.0 + 2.0 + (kCoefficients + 5) * 4.0 / 3.0 + 1.0 / 3.0 + 8.0 / 16.0;
+    // 13 coefficients and 5 vectors as floats, the dirty marks; the changed list (1/16 of int64)
+    return 5 * 4.0 + 2.0 + (kStored + 5) * 4.0 / 3.0 + 1.0 / 3.0 + 8.0 / 16.0;
 }
 
 StencilMultigrid::StencilMultigrid(int64_t m) : held_(static_cast<std::size_t>(m * m)) {
@@ -106,7 +115,7 @@ StencilMultigrid::StencilMultigrid(int64_t m) : held_(static_cast<std::size_t>(m
         Level L;
         const auto mm = static_cast<std::size_t>(s * s);
         L.m = s;
-        if (s < m) L.c = AlignedBuffer<float>(mm * kCoefficients);
+        if (s < m) L.c = AlignedBuffer<float>(mm * kStored);
         L.x = AlignedBuffer<float>(mm);
         L.b = AlignedBuffer<float>(mm);
         L.r = AlignedBuffer<float>(mm);
@@ -196,7 +205,9 @@ void StencilMultigrid::cycle(int l) {
 double StencilMultigrid::entry(int l, int64_t y, int64_t x, int dy, int dx) const {
     const Level &L = lv_[static_cast<std::size_t>(l)];
     const int64_t m = L.m, p = y * m + x;
-    if (l > 0) return L.c.data()[((dy + 2) * 5 + dx + 2) * m * m + p];
+    if (l > 0)
+        return forward(dy, dx) ? L.c.data()[plane(dy, dx) * m * m + p]
+                               : L.c.data()[plane(-dy, -dx) * m * m + wrap(y + dy, m) * m + wrap(x + dx, m)];
     const double v = kL2[dy + 2][dx + 2];
     const unsigned char *held = held_.data();
     return (v == 0.0 || held[p] || held[wrap(y + dy, m) * m + wrap(x + dx, m)]) ? 0.0 : v;
@@ -233,7 +244,8 @@ void StencilMultigrid::coarse_row(int l, int64_t Y, int64_t X) {
     Level &next = lv_[static_cast<std::size_t>(l) + 1];
     double s = 0.0;
     for (int k = 0; k < kCoefficients; k++) {
-        next.c.data()[k * mmc + p] = static_cast<float>(acc[k]);
+        const int dy = k / 5 - 2, dx = k % 5 - 2;
+        if (forward(dy, dx)) next.c.data()[plane(dy, dx) * mmc + p] = static_cast<float>(acc[k]);
         s += std::fabs(acc[k]);
     }
     next.dinv.data()[p] = static_cast<float>(s > 0.0 ? 1.0 / s : 0.0);

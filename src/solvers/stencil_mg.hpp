@@ -5,7 +5,8 @@
 // hold for the stiffness' block there (docs/performance.md, "A real-space stencil for the sheet
 // between its contacts").  The levels:
 //   fine grid    L^2 on the free points, the held points held at zero;
-//   coarse grids Galerkin operators P^T A P (bilinear P), 25 coefficients a point, down to 16^2,
+//   coarse grids Galerkin operators P^T A P (bilinear P), 25 coefficients a point (13 stored: the
+//                operator is symmetric), down to 16^2,
 //                assembled for a held set and then recomputed only in the rows its change reaches
 //                (the same bits as a whole assembly: each row is one function of the held set);
 //   the cycle    V(1,1): l1-Jacobi sweeps (weights 1 / sum_j |A_ij|, stable for any held set
@@ -40,7 +41,7 @@ public:
 private:
     struct Level {
         int64_t m = 0;
-        AlignedBuffer<float> c;                 // coarse levels: 25 planes of m^2, entry (dy + 2) * 5 + dx + 2
+        AlignedBuffer<float> c;                 // coarse levels: 13 planes of m^2, the forward offsets' (plane())
         AlignedBuffer<float> x, b, r, t, dinv;  // solution, right-hand side, residual, scratch, weights
         AlignedBuffer<unsigned char> dirty;     // rows to recompute (update())
     };

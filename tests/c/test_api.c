@@ -869,9 +869,10 @@ static void memory_per_point(void **state) {
      * nothing fails */
     const double at_least[6] = {48.0, 48.0, 48.0, 48.0, 64.0, 92.0};
     /* at most the 80 above; the Newton method (since 2026-11-29 the default on thin sheets' lower
-     * continuing loads from 1024^2 on) its own 88 more, as gfmd.h says: its three fields, the held
-     * set and the multigrid levels (a fine grid of floats and coarse operators of 25), the default's
-     * CG before it (footprint) freed as it is made */
+     * continuing loads from 1024^2 on) its own 72 more, as gfmd.h says (88 until its coarse
+     * operators kept 13 of their 25 coefficients): its three fields, the held set and the multigrid
+     * levels (a fine grid of floats and coarse operators), the default's CG before it (footprint)
+     * freed as it is made */
     const double at_most[6] = {80.0, 80.0, 80.0, 80.0, 80.0, 168.0};
     /* The transforms' plans made once here, with the default planner: each child inherits them as
      * FFTW's wisdom and makes the same plans without measuring again (1.5 s a 2048^2 grid, half

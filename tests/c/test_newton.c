@@ -246,7 +246,7 @@ static void units_do_not_matter(void **state) {
     assert_true(fabs(si[2] - ref[2]) <= 1e-9 * fabs(ref[2]) && fabs(si[3] - ref[3]) <= 1e-9 * fabs(ref[3]));
 }
 
-/* Its 88 bytes per point that cannot be had: GFMD_ERR_NOMEM and the solver unchanged.  In a child
+/* Its 72 bytes per point that cannot be had: GFMD_ERR_NOMEM and the solver unchanged.  In a child
  * process whose address space is capped just above what it uses and then filled (not under the
  * sanitizers or valgrind, which need address space of their own). */
 static int without_memory_child(void) {
