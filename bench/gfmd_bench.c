@@ -1153,6 +1153,10 @@ int main(int argc, char **argv) {
                         "(in a), lambda_r = n a/R with R >= 1, an integer seed >= 0\n");
         return 2;
     }
+    if (adhesion && no_adhesion) { /* in every mode that reads them (--first-load, --displacement) */
+        fprintf(stderr, "gfmd_bench: --adhesion and --no-adhesion exclude each other\n");
+        return 2;
+    }
     if (contention) return contention_table(sizes, nsizes);
     if (random_bodies > 0) {
         const double random_sizes[2] = {128, 256};
@@ -1176,10 +1180,6 @@ int main(int argc, char **argv) {
     }
     if (first_load) {
         const double thin[2] = {0.0625, 0.25}, first_sizes[3] = {512, 1024, 2048};
-        if (adhesion && no_adhesion) {
-            fprintf(stderr, "gfmd_bench: --adhesion and --no-adhesion exclude each other\n");
-            return 2;
-        }
         return first_load_table(sizes_given ? sizes : first_sizes, sizes_given ? nsizes : 3, widths_given ? widths : thin,
                                 widths_given ? nwidths : 2, threads < 1 ? 1 : threads, levels, first_tol, adhesion,
                                 no_adhesion, levers);
@@ -1188,10 +1188,6 @@ int main(int argc, char **argv) {
         const double disp_sizes[1] = {256}, disp_widths[6] = {0.25, 1, 4, 8, 16, 0};
         if (!isnan(bonded_nu) && !(bonded_nu > -1.0 && bonded_nu <= 0.5)) {
             fprintf(stderr, "gfmd_bench: --bonded needs a Poisson ratio in (-1, 0.5]\n");
-            return 2;
-        }
-        if (adhesion && no_adhesion) {
-            fprintf(stderr, "gfmd_bench: --adhesion and --no-adhesion exclude each other\n");
             return 2;
         }
         if (below_given && gap_rms > 0.0) {
