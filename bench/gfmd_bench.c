@@ -24,12 +24,13 @@
  *                                mass-weighted FIRE, the multilevel start (named by the solver
  *                                its finest grid took) and the default solver (--levers: those only)
  *   gfmd_bench --sweep [--sizes 2048] [--widths 0.25,1,100] [--threads N]
- *        [--adhesion] [--no-cg] [--verbose] [--from A] [--columns fire,m+fire,mass,cg,newton,auto]
+ *        [--adhesion] [--no-cg] [--verbose] [--from A] [--to A] [--columns fire,m+fire,mass,cg,newton,auto]
  *        [--substrate H,LS,R,SEED]
  *                                the study's continuing loads on each body by FIRE, the approach
  *                                then FIRE, mass-weighted FIRE, CG and the default (its choices);
  *                                --from: those at Persson's A/A0 >= A only (the lower ones
- *                                relaxed once by the default, untimed); --columns: those
+ *                                relaxed once by the default, untimed); --to: those at
+ *                                Persson's A/A0 <= A only; --columns: those
  *                                columns only; --substrate: Hurst exponent H, lambda_s = LS a,
  *                                lambda_r = n a/R and the seed instead of the study's 0.8,4,8,2016
  *   gfmd_bench --big [--sigma0 S] [--threads 2] [--sizes 4096]
@@ -406,8 +407,8 @@ static double persson_load(gfmd_sim *s, double area) {
  * load is relaxed once, untimed, by the default solver (from 3 coarser grids at >= 2048^2, flat
  * below, as the study does); from that equilibrium the nine continuing loads are relaxed by each
  * solver on a clone: FIRE, the approach then FIRE, mass-weighted FIRE throughout, CG (not with
- * --no-cg; with adhesion the adhesive CG), the active-set Newton method (not with adhesion, which
- * it does not take) and the default, which chooses again at every load.  Prints their
+ * --no-cg; with adhesion the adhesive CG), the active-set Newton method (with adhesion its trust
+ * region) and the default, which chooses again at every load.  Prints their
  * steps and seconds, the default's choices (one name per run of loads), A/A0 at the last load of
  * each, and with --verbose each solver's steps and seconds per load. */
 enum { SWEEP_LOADS = 10, SWEEP_SOLVERS = 6 };
@@ -419,7 +420,7 @@ typedef struct {
 
 /* The nine continuing loads on a clone of s by `solver`, timed load by load (total -1: the Newton
  * method refused the body). */
-static sweep_run sweep_continue(gfmd_sim *s, int32_t solver, const double *loads, int first) {
+static sweep_run sweep_continue(gfmd_sim *s, int32_t solver, const double *loads, int first, int last) {
     sweep_run r = {{0}, 0, {0}, 0.0, 0.0};
     gfmd_sim *c = NULL;
     int32_t st = gfmd_sim_clone(s, &c);
@@ -430,7 +431,7 @@ static sweep_run sweep_continue(gfmd_sim *s, int32_t solver, const double *loads
         return r;
     }
     if (st != GFMD_OK) die(c, st, "solver");
-    for (int l = first; l < SWEEP_LOADS; ++l) {
+    for (int l = first; l < last; ++l) {
         int64_t steps = 0;
         if ((st = gfmd_set_pressure(c, loads[l])) != GFMD_OK) die(c, st, "pressure");
         const double t0 = now();
@@ -446,10 +447,10 @@ static sweep_run sweep_continue(gfmd_sim *s, int32_t solver, const double *loads
 }
 
 /* The default's choices over the continuing loads, e.g. "mass/m+FIRE" (one name per run). */
-static void sweep_choices(const int32_t *choice, int first, char *out, size_t size) {
+static void sweep_choices(const int32_t *choice, int first, int last, char *out, size_t size) {
     static const char *const shortnames[] = {"Verlet", "FIRE", "mass", "CG", "auto", "m+FIRE", "Newton"};
     out[0] = '\0';
-    for (int l = first; l < SWEEP_LOADS; ++l) {
+    for (int l = first; l < last; ++l) {
         if (l > first && l > 0 && choice[l] == choice[l - 1]) continue;
         const int32_t k = choice[l];
         const char *name = k >= 0 && k < 7 ? shortnames[k] : "?";
@@ -463,7 +464,7 @@ static const char *const sweep_names[SWEEP_SOLVERS] = {"fire", "m+fire", "mass",
 /* columns: a bit per column to run (--columns, parse_names on sweep_names), so that a 2048^2
  * comparison need not run all six */
 static int sweep_table(const double *sizes, int nsizes, const double *widths, int nwidths, int threads, int adhesion,
-                       int cg, int verbose, double from, int columns) {
+                       int cg, int verbose, double from, double to, int columns) {
     static const double targets[SWEEP_LOADS] = {0.004, 0.008, 0.016, 0.03, 0.05, 0.08, 0.12, 0.18, 0.27, 0.4};
     static const char *const heads[SWEEP_SOLVERS] = {"FIRE", "m+FIRE", "mass", "CG", "Newton", "auto"};
     printf("gfmd %s: the study's continuing loads (Persson A/A0 = 0.008 ... 0.4 after the first load 0.004), "
@@ -471,6 +472,7 @@ static int sweep_table(const double *sizes, int nsizes, const double *widths, in
            "%d thread(s), default tolerance%s\n", gfmd_version(), substrate_hurst, substrate_lambda_s, substrate_ratio,
            (unsigned long long)substrate_seed, threads, adhesion ? ", adhesion gamma0 = 5e-4, rho = a" : "");
     if (from > 0.0) printf("the loads below Persson's A/A0 = %g relaxed once by the default, untimed; the columns from there\n", from);
+    if (to < 1.0) printf("the loads up to Persson's A/A0 = %g only\n", to);
     printf("%5s %7s %9s |", "n", "W", "f(qmin w)");
     for (int k = 0; k < SWEEP_SOLVERS; ++k) printf(" %7s %8s %8s |", heads[k], "s", "A/A0");
     printf(" %-14s\n", "auto chose");
@@ -495,8 +497,10 @@ static int sweep_table(const double *sizes, int nsizes, const double *widths, in
                 if ((st = gfmd_set_pressure(s, loads[first])) != GFMD_OK ||
                     (st = gfmd_relax(s, 0.0, 10000000, &steps)) != GFMD_OK)
                     die(s, st, "a load below --from");
-            if (first == SWEEP_LOADS) {
-                fprintf(stderr, "gfmd_bench: --from %g leaves no load to compare\n", from);
+            int last = first; /* --to: the loads up to it only */
+            while (last < SWEEP_LOADS && targets[last] <= to) ++last;
+            if (first == last) {
+                fprintf(stderr, "gfmd_bench: --from %g and --to %g leave no load to compare\n", from, to);
                 return 1;
             }
             const int32_t solvers[SWEEP_SOLVERS] = {GFMD_SOLVER_FIRE, GFMD_SOLVER_MASS_FIRE, GFMD_SOLVER_FIRE_MASS,
@@ -508,7 +512,7 @@ static int sweep_table(const double *sizes, int nsizes, const double *widths, in
              * run, not run again */
             int32_t same = -1;
             int32_t asked[SWEEP_LOADS] = {0}; /* the choices asked of s (printed whether or not the auto column runs) */
-            for (int l = first; l < SWEEP_LOADS; ++l) {
+            for (int l = first; l < last; ++l) {
                 int32_t choice = -1;
                 if ((st = gfmd_set_pressure(s, loads[l])) != GFMD_OK) die(s, st, "pressure");
                 gfmd_get_solver(s, &choice);
@@ -518,16 +522,14 @@ static int sweep_table(const double *sizes, int nsizes, const double *widths, in
             sweep_run runs[SWEEP_SOLVERS];
             for (int k = 0; k < SWEEP_SOLVERS; ++k) {
                 runs[k].total = -1;
-                if (!(columns & (1 << k)) || (solvers[k] == GFMD_SOLVER_CG && !cg) ||
-                    (solvers[k] == GFMD_SOLVER_NEWTON && adhesion))
-                    continue;
+                if (!(columns & (1 << k)) || (solvers[k] == GFMD_SOLVER_CG && !cg)) continue;
                 for (int j = 0; j < k && solvers[k] == GFMD_SOLVER_AUTO; ++j)
                     if (runs[j].total >= 0 && solvers[j] == same) runs[k] = runs[j];
-                if (runs[k].total < 0) runs[k] = sweep_continue(s, solvers[k], loads, first);
+                if (runs[k].total < 0) runs[k] = sweep_continue(s, solvers[k], loads, first, last);
             }
             gfmd_sim_destroy(&s);
             char chose[64];
-            sweep_choices(asked, first, chose, sizeof chose);
+            sweep_choices(asked, first, last, chose, sizeof chose);
             printf("%5d %7g %9.3g |", n, W, f);
             for (int k = 0; k < SWEEP_SOLVERS; ++k)
                 if (runs[k].total < 0)
@@ -539,7 +541,7 @@ static int sweep_table(const double *sizes, int nsizes, const double *widths, in
                 for (int k = 0; k < SWEEP_SOLVERS; ++k) {
                     if (runs[k].total < 0) continue;
                     printf("#   %-6s steps (s) per load:", heads[k]);
-                    for (int l = first; l < SWEEP_LOADS; ++l) printf(" %lld (%.2f)", runs[k].steps[l], runs[k].secs[l]);
+                    for (int l = first; l < last; ++l) printf(" %lld (%.2f)", runs[k].steps[l], runs[k].secs[l]);
                     printf("\n");
                 }
             fflush(stdout);
@@ -1083,14 +1085,14 @@ static int contention_table(const double *sizes, int nsizes) {
 int main(int argc, char **argv) {
     double sizes[8] = {256, 512, 1024, 2048}, widths[8] = {0, 0.5, 1, 4};
     int nsizes = 4, nwidths = 4, threads = 1, cg = 1, alt = 1, contention = 0, multilevel = 0, nloads = 0, big = 0,
-        first_load = 0, sweep = 0, displacement = 0, verbose = 0, from_given = 0, threads_given = 0, sizes_given = 0, widths_given = 0, sigma0_given = 0, adhesion = 0,
+        first_load = 0, sweep = 0, displacement = 0, verbose = 0, from_given = 0, to_given = 0, threads_given = 0, sizes_given = 0, widths_given = 0, sigma0_given = 0, adhesion = 0,
         no_adhesion = 0;
     double gap_rms = 0.0;
     int below_given = 0, positions = 0;
     double loads[8], choice_loads[8], gaps[8];
     int choices = 0, nchoice_loads = 0, ngaps = 0, random_bodies = 0;
     unsigned long long random_seed = 1;
-    double cg_seconds = 120.0, sigma0 = 0.05, bonded_nu = NAN, first_tol = 0.0, sweep_from = 0.0, below = 1.0;
+    double cg_seconds = 120.0, sigma0 = 0.05, bonded_nu = NAN, first_tol = 0.0, sweep_from = 0.0, sweep_to = 1.0, below = 1.0;
     int levels = 3, levers = 15, columns = 63, substrate_given = 0;
     int32_t solver = GFMD_SOLVER_AUTO;
     for (int i = 1; i < argc; ++i) {
@@ -1104,6 +1106,7 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--gap") && i + 1 < argc) gap_rms = atof(argv[++i]), gap_rms = gap_rms > 0.0 ? gap_rms : -1.0;
         else if (!strcmp(argv[i], "--verbose")) verbose = 1;
         else if (!strcmp(argv[i], "--from") && i + 1 < argc) sweep_from = atof(argv[++i]), from_given = 1;
+        else if (!strcmp(argv[i], "--to") && i + 1 < argc) sweep_to = atof(argv[++i]), to_given = 1;
         else if (!strcmp(argv[i], "--levels") && i + 1 < argc) levels = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--columns") && i + 1 < argc) columns = parse_names(argv[++i], sweep_names, SWEEP_SOLVERS);
         else if (!strcmp(argv[i], "--substrate") && i + 1 < argc) {
@@ -1144,7 +1147,7 @@ int main(int argc, char **argv) {
         if (solver < 0 || !(sigma0 > 0.0) || levels < 1 || first_tol < 0.0 || levers < 0 || columns < 0 || random_bodies < 0 || !(below >= 0.0) || gap_rms < 0.0 || positions < 0) {
             fprintf(stderr, "usage: %s [--sizes 256,512,...] [--big] [--widths 0,0.5,1,4] [--threads N] "
                             "[--cg-seconds S] [--no-cg] [--no-alt] [--sigma0 S] [--solver auto|fire|mass|mass+fire|verlet|cg] "
-                            "[--bonded NU] [--adhesion] | --contention | --sweep [--verbose] [--from A] [--columns fire,m+fire,mass,cg,newton,auto] [--substrate H,LS,R,SEED] | --loads L,.. | --choices L,.. [--gaps G,..] | --multilevel | --first-load [--levels L] [--tol T] [--levers fire,mass,multilevel,default] [--adhesion | --no-adhesion] | --big | --displacement [--below B | --gap R [--positions K]] [--no-adhesion] [--bonded NU] | --random K [--seed S]\n", argv[0]);
+                            "[--bonded NU] [--adhesion] | --contention | --sweep [--verbose] [--from A] [--to A] [--columns fire,m+fire,mass,cg,newton,auto] [--substrate H,LS,R,SEED] | --loads L,.. | --choices L,.. [--gaps G,..] | --multilevel | --first-load [--levels L] [--tol T] [--levers fire,mass,multilevel,default] [--adhesion | --no-adhesion] | --big | --displacement [--below B | --gap R [--positions K]] [--no-adhesion] [--bonded NU] | --random K [--seed S]\n", argv[0]);
             return 2;
         }
     }
@@ -1207,11 +1210,15 @@ int main(int argc, char **argv) {
         fprintf(stderr, "gfmd_bench: --from takes a Persson area in (0, 0.4]\n");
         return 2;
     }
+    if (to_given && !(sweep_to >= 0.008 && sweep_to <= 0.4 && sweep_to >= sweep_from)) {
+        fprintf(stderr, "gfmd_bench: --to takes a Persson area in [0.008, 0.4], not below --from\n");
+        return 2;
+    }
     if (sweep) {
         const double sweep_sizes[1] = {2048}, sweep_widths[3] = {0.25, 1, 100};
         return sweep_table(sizes_given ? sizes : sweep_sizes, sizes_given ? nsizes : 1,
                            widths_given ? widths : sweep_widths, widths_given ? nwidths : 3, threads < 1 ? 1 : threads, adhesion, cg,
-                           verbose, sweep_from, columns);
+                           verbose, sweep_from, sweep_to, columns);
     }
     if (nloads > 0) return loads_table(sizes, nsizes, widths, nwidths, loads, nloads);
     if (multilevel) return multilevel_table(sizes, nsizes, widths, nwidths, sigma0, solver);

@@ -308,13 +308,19 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * about 10-20 FFT pairs and multigrid cycles (but on a flat surface, which the wall holds at its
  * highest point only, the first steps' CG may take hundreds of iterations, up to its cap of 500:
  * start it from a deformed surface or coarser grids, gfmd_relax_multilevel(), as the default
- * does); it has no state between steps, so chunks and checkpoints follow one call, and results do
- * not depend on the thread count (its cycle runs on one thread).  It takes a layer on a fluid
- * foundation without adhesion under pressure control on one process, on a square grid of square
- * cells whose side is a power of 2 >= 32 --
+ * does); with adhesion (since 2026-11-29) the CG's model adds the adhesive law's curvature, which
+ * is negative, and stays within a trust region, |d| <= R at every free point (Steihaug's CG:
+ * stopped at the region's edge, and along a direction of negative curvature taken to that edge),
+ * R = rho after a restart, doubled after a full step to the edge and set to the step taken after
+ * a shortened one, never below 0.3 rho; every step is checked against the energy, so it never
+ * rises by more than the smallest step's (alpha = 2^-20), and the non-convex energy's minimum it
+ * ends in may differ from another solver's; R is the solver's state, so chunks and checkpoints
+ * follow one call, and results do not depend on the thread count (its cycle runs on one thread).
+ * It takes a layer on a fluid foundation under pressure control on one process, on a square grid
+ * of square cells whose side is a power of 2 >= 32 --
  * GFMD_ERR_STATE, nothing changed, for a call that would set it on another body or grid or bring
- * its body adhesion, displacement control or another Green's function; gfmd_relax_multilevel()
- * takes the default's choice on coarse grids below 32^2.  About 72 bytes per point more
+ * its body displacement control or another Green's function; gfmd_relax_multilevel()
+ * takes the default's choice on coarse grids below 32^2.  About 80 bytes per point more
  * (GFMD_ERR_NOMEM, nothing changed, if they cannot be had).  Correct on any such layer, fast
  * where the stencil stands for the stiffness, q_max w < 6 (docs/performance.md)).
  */

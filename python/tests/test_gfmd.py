@@ -275,8 +275,9 @@ def test_solver_choice():
 
 
 def test_newton_solver():
-    """GFMD_SOLVER_NEWTON ends where the CG ends on a thin sheet (the same contact set), and a body
-    it does not take is refused with a StateError that changes nothing."""
+    """GFMD_SOLVER_NEWTON ends where the CG ends on a thin sheet (the same contact set), a body it
+    does not take is refused with a StateError that changes nothing, and with adhesion it relaxes
+    the same sheet to a larger contact (its trust region; test_adhesion checks those minima)."""
     areas = []
     for solver in (gfmd.NEWTON, gfmd.CG):
         with gfmd.Simulation(64, 64, 64.0, 64.0, threads=1, planner=gfmd.ESTIMATE) as s:
@@ -288,8 +289,12 @@ def test_newton_solver():
             areas.append(s.contact_area)
             if solver == gfmd.NEWTON:
                 with pytest.raises(gfmd.StateError):
-                    s.set_adhesion(1e-3, 0.5)
+                    s.set_green(gfmd.HALFSPACE, 0.0)
                 assert s.solver == gfmd.NEWTON
+                s.set_adhesion(5e-4, 1.0)
+                s.relax(tol=1e-10)
+                assert s.solver == gfmd.NEWTON
+                assert s.contact_area > areas[0]
     assert 0.0 < areas[0] == areas[1] < 1.0
 
 

@@ -1,5 +1,6 @@
 #include "newton.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <vector>
@@ -15,6 +16,27 @@ constexpr double kInnerTolerance = 0.1;  // the CG to a tenth of its right-hand 
 constexpr int kMaxInner = 500;
 constexpr double kArmijo = 1e-4;
 constexpr int kMaxHalvings = 20;  // alpha down to 2^-20, about 1e-6 (the measured program's floor)
+// With adhesion the CG's iterate stays within max |d| <= radius on the free points (Steihaug's CG):
+// the radius starts at kTrustStart rho after a restart, doubles after a full step to its edge,
+// and after a shortened step becomes the step taken, but not less than kTrustFloor rho (rho the
+// scale on which the adhesive law changes).  Measured in bench/stencil_newton --trust 1,0.3
+// (docs/performance.md, "A trust region for the Newton method on the adhesive sheets"): a floor
+// of 1e-3 rho let one point toggling between held and free shrink the region to nothing; a
+// region in the 2-norm did worse than none.
+constexpr double kTrustStart = 1.0;
+constexpr double kTrustFloor = 0.3;
+
+// exp(-x) - 1 + x (>= 0) without the cancellation of its terms for small x: the adhesive law's
+// part of a move's energy beyond its first order, per unit of the point's weight exp(-g/rho).
+double exp_remainder(double x) {
+    if (!(std::fabs(x) < 0.5)) return std::expm1(-x) + x;
+    double term = 0.5 * x * x, sum = term;  // sum over k >= 2 of (-x)^k / k!; |x| < 0.5: to k = 17
+    for (int k = 3; k <= 17; ++k) {         // the next term below 1e-17 of the sum
+        term *= -x / static_cast<double>(k);
+        sum += term;
+    }
+    return sum;
+}
 
 // c0 of the stencil c0 L^2 fitted to k(q) in relative error over the modes with a stiffness:
 // minimizes sum (c0 y - 1)^2, y = lambda^2 / k, lambda = 4 - 2 cos(qx a) - 2 cos(qy a) the
@@ -48,35 +70,48 @@ const char *newton_grid_refusal(const FftGrid &grid) {
 
 const char *newton_refusal(const FftGrid &grid, const Params &p) {
     if (p.kind != GFMD_GREEN_LAYER_FLUID) return "the Newton solver takes a layer on a fluid foundation only";
-    if (p.gamma0 > 0.0) return "the Newton solver does not take adhesion";
     if (p.control != kPressureControl) return "the Newton solver takes pressure control only";
     return newton_grid_refusal(grid);
 }
 
-double ActiveSetNewton::bytes_per_point() { return 3 * 8.0 + 1.0 + StencilMultigrid::bytes_per_point(); }
+double ActiveSetNewton::bytes_per_point() { return 4 * 8.0 + 1.0 + StencilMultigrid::bytes_per_point(); }
 
 ActiveSetNewton::ActiveSetNewton(int64_t side)
     : side_(side),
       r_(static_cast<std::size_t>(side * side)),
       p_(static_cast<std::size_t>(side * side)),
       s_(static_cast<std::size_t>(side * side)),
+      e_(static_cast<std::size_t>(side * side)),
       held_(static_cast<std::size_t>(side * side)),
       mg_(side) {}
 
 void ActiveSetNewton::set_state(const std::vector<double> &s) {
-    if (!s.empty()) fail(GFMD_ERR_FORMAT, "invalid Newton solver state");
+    // (a checkpoint of a library before the trust region holds no number: the restarted radius)
+    if (s.size() > 1 || (s.size() == 1 && !(std::isfinite(s[0]) && s[0] >= kTrustFloor)))
+        fail(GFMD_ERR_FORMAT, "invalid Newton solver state");
+    radius_ = s.empty() ? kTrustStart : s[0];
+}
+
+void ActiveSetNewton::restart(const Dynamics &) {
+    c0_ = 0.0;
+    radius_ = kTrustStart;
 }
 
 void ActiveSetNewton::advance(StepContext &c) {
     const FftGrid &grid = c.grid;
     double *__restrict z = c.fields.z.data(), *__restrict d = c.fields.v.data();
     const double *__restrict h = c.fields.h.data(), *__restrict f = c.fields.f.data();
-    double *__restrict r = r_.data(), *__restrict p = p_.data(), *__restrict s = s_.data();
+    double *__restrict r = r_.data(), *__restrict p = p_.data(), *__restrict s = s_.data(), *__restrict e = e_.data();
     unsigned char *__restrict held = held_.data();
     std::complex<double> *work = c.fields.work.data();
     const double *stiff = c.body.stiffness.data();
     const int64_t nxh = grid.nxh();
     const double inv_n = 1.0 / static_cast<double>(grid.real_size()), w_last = grid.weight(nxh - 1);
+    // With adhesion the energy adds -gamma0 exp(-(z - h)/rho) a point (forces.cpp's units): its
+    // curvature -(gamma0/rho^2) e on the free points, e = exp(-(z - h)/rho) of this z (in e_).
+    const bool adhesive = c.params.gamma0 > 0.0;
+    const double rho = c.params.rho, inv_rho = adhesive ? 1.0 / rho : 0.0;
+    const double soft = adhesive ? c.params.gamma0 / (rho * rho) : 0.0, radius = radius_ * rho;
 
     // the held set and the right-hand side F_F
     const double b2 = grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
@@ -87,6 +122,8 @@ void ActiveSetNewton::advance(StepContext &c) {
             d[i] = 0.0;
             t += r[i] * r[i];
         }
+        if (adhesive)
+            for (int64_t i = i0; i < i1; ++i) e[i] = held[i] ? 0.0 : std::exp(-(z[i] - h[i]) * inv_rho);
         acc[0] += t;
     })[0];
     if (!(b2 > 0.0)) return;  // nothing moves: the caller's test stops
@@ -101,31 +138,74 @@ void ActiveSetNewton::advance(StepContext &c) {
             acc[0] += t;
         })[0];
     };
+    // the largest t >= 0 with max |d + t x| <= radius on the free points (0 if x is 0 there)
+    const auto to_edge = [&](const double *x) {
+        const double t = -grid.max_points<1>([&](int64_t i0, int64_t i1, double *top) {
+            for (int64_t i = i0; i < i1; ++i) {
+                if (held[i] || x[i] == 0.0) continue;
+                top[0] = std::max(top[0], -(x[i] > 0.0 ? (radius - d[i]) / x[i] : (radius + d[i]) / -x[i]));
+            }
+        })[0];
+        return std::isfinite(t) ? std::max(t, 0.0) : 0.0;
+    };
+    const auto step_along = [&](double t, double sign) {  // d += t sign p
+        grid.for_points([&](int64_t i0, int64_t i1) {
+            for (int64_t i = i0; i < i1; ++i) d[i] += t * (sign * p[i]);
+        });
+    };
     double rs = precondition();
     grid.for_points([&](int64_t i0, int64_t i1) {
         for (int64_t i = i0; i < i1; ++i) p[i] = s[i];
     });
+    bool edge = false;  // the iterate stopped at the trust region's edge (with adhesion)
     for (int it = 1; it <= kMaxInner; ++it) {
-        // s = K p on the free points (the stiffness scaled by -k/N: the elastic force of p)
+        // s = K p on the free points (the stiffness scaled by -k/N: the elastic force of p), with
+        // adhesion plus the adhesive curvature's -(gamma0/rho^2) e p; p.s and r.p
         grid.forward(p, work);
         grid.for_mode_rows([&](int64_t y0, int64_t y1) { kernels::use().apply_stiffness(work, stiff, y0, y1, nxh, inv_n, w_last); });
         grid.backward(work, s);
-        const double pkp = grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
-            double t = 0.0;
-            for (int64_t i = i0; i < i1; ++i) {
-                s[i] = held[i] ? 0.0 : -s[i];
-                t += p[i] * s[i];
+        const auto curv = grid.sum_points<2>([&](int64_t i0, int64_t i1, double *acc) {
+            double t = 0.0, u = 0.0;
+            if (adhesive) {
+                for (int64_t i = i0; i < i1; ++i) {
+                    s[i] = held[i] ? 0.0 : -s[i] - soft * e[i] * p[i];
+                    t += p[i] * s[i];
+                    u += r[i] * p[i];
+                }
+            } else {
+                for (int64_t i = i0; i < i1; ++i) {
+                    s[i] = held[i] ? 0.0 : -s[i];
+                    t += p[i] * s[i];
+                }
             }
             acc[0] += t;
-        })[0];
-        if (!(pkp > 0.0)) {  // no curvature along p (no contact holds the sheet): the first direction
-            if (it == 1)
+            acc[1] += u;
+        });
+        const double pkp = curv[0];
+        if (!(pkp > 0.0)) {
+            if (adhesive) {  // along p, downhill for the model, to the region's edge (Steihaug)
+                const double sign = curv[1] >= 0.0 ? 1.0 : -1.0;
+                grid.for_points([&](int64_t i0, int64_t i1) {
+                    for (int64_t i = i0; i < i1; ++i) s[i] = sign * p[i];
+                });
+                step_along(to_edge(s), sign);
+                edge = true;
+            } else if (it == 1) {  // no curvature along p (no contact holds the sheet): the first direction
                 grid.for_points([&](int64_t i0, int64_t i1) {
                     for (int64_t i = i0; i < i1; ++i) d[i] = p[i];
                 });
+            }
             break;
         }
         const double a = rs / pkp;
+        if (adhesive) {
+            const double t = to_edge(p);
+            if (a > t) {  // the next iterate would leave the region: to its edge
+                step_along(t, 1.0);
+                edge = true;
+                break;
+            }
+        }
         const double r2 = grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
             double t = 0.0;
             for (int64_t i = i0; i < i1; ++i) {
@@ -145,28 +225,44 @@ void ActiveSetNewton::advance(StepContext &c) {
     }
 
     // The move to max(h, z + alpha d): delta = that - z (in r) and the energy's change
-    // -(A/N) F.delta + (A/2N^2) sum_q k |delta(q)|^2 (forces.cpp's units), the factor A/N dropped.
+    // -(A/N) F.delta + (A/2N^2) sum_q k |delta(q)|^2 (forces.cpp's units), the factor A/N dropped;
+    // with adhesion plus the adhesive law's part beyond the first order, -gamma0 sum of
+    // e (exp(-delta/rho) - 1 + delta/rho) (F holds its first order).
     double alpha = 1.0;
     for (int halving = 0;; ++halving, alpha *= 0.5) {
-        const auto m = grid.sum_points<2>([&](int64_t i0, int64_t i1, double *acc) {
-            double fd = 0.0, hits = 0.0;
+        const auto m = grid.sum_points<3>([&](int64_t i0, int64_t i1, double *acc) {
+            double fd = 0.0, hits = 0.0, rest = 0.0;
             for (int64_t i = i0; i < i1; ++i) {
                 const double zn = z[i] + alpha * d[i];
                 hits += zn < h[i] ? 1.0 : 0.0;
                 r[i] = (zn < h[i] ? h[i] : zn) - z[i];
                 fd += f[i] * r[i];
             }
+            if (adhesive)
+                for (int64_t i = i0; i < i1; ++i) rest += r[i] == 0.0 ? 0.0 : e[i] * exp_remainder(r[i] * inv_rho);
             acc[0] += fd;
             acc[1] += hits;
+            acc[2] += rest;
         });
-        if (m[1] == 0.0 && halving == 0) break;  // the CG's iterate itself: a decrease
-        if (halving == kMaxHalvings) break;      // the smallest step, taken (the next step starts again)
+        // the CG's iterate itself: a decrease of the quadratic energy (with adhesion always tested)
+        if (m[1] == 0.0 && halving == 0 && !adhesive) break;
+        if (halving == kMaxHalvings) break;  // the smallest step, taken (the next step starts again)
         grid.forward(r, work);
         const double dkd = grid.sum_mode_rows<1>([&](int64_t y0, int64_t y1, double *acc) {
             acc[0] += kernels::use().mode_energy(work, stiff, y0, y1, nxh, w_last);
         })[0];
-        const double change = -m[0] + 0.5 * dkd * inv_n;
+        const double change = -m[0] + 0.5 * dkd * inv_n - c.params.gamma0 * m[2];
         if (change <= kArmijo * -m[0]) break;
+    }
+    if (adhesive) {  // the region: doubled after a full step to its edge, else the step taken
+        if (alpha == 1.0 && edge) {
+            radius_ *= 2.0;
+        } else if (alpha < 1.0) {
+            const double dmax = grid.max_points<1>([&](int64_t i0, int64_t i1, double *top) {
+                for (int64_t i = i0; i < i1; ++i) top[0] = std::max(top[0], std::fabs(d[i]));
+            })[0];
+            radius_ = std::max(alpha * dmax * inv_rho, kTrustFloor);
+        }
     }
     grid.for_points([&](int64_t i0, int64_t i1) {
         for (int64_t i = i0; i < i1; ++i) {

@@ -131,7 +131,7 @@ static int32_t timestep_nan(gfmd_sim *s) { return gfmd_set_timestep(s, NAN); }
 static int32_t damping_negative(gfmd_sim *s) { return gfmd_set_damping(s, -1.0); }
 static int32_t damping_inf(gfmd_sim *s) { return gfmd_set_damping(s, INFINITY); }
 static int32_t solver_unknown(gfmd_sim *s) { return gfmd_set_solver(s, GFMD_SOLVER_NEWTON + 1); }
-/* the Newton solver on the twin: adhesive, and its grid not square (test_newton has each reason) */
+/* the Newton solver on the twin: its grid not square (test_newton has each reason) */
 static int32_t solver_newton(gfmd_sim *s) { return gfmd_set_solver(s, GFMD_SOLVER_NEWTON); }
 static int32_t threads_negative(gfmd_sim *s) { return gfmd_set_threads(s, -1); }
 static int32_t threads_too_many(gfmd_sim *s) { return gfmd_set_threads(s, 5000); }

@@ -11,7 +11,9 @@
  * Then the same for an adhesive thin sheet at a low load, where the default is mass-weighted FIRE
  * (asserted; q_max w = 1.1 < 4): saved after 60 steps, with the frequency estimates of the contact
  * buckets entered so far in its state, resumed for 80 more (<dir>/sheet.gfmd, sheet_straight.bin,
- * sheet_resumed.bin); and the Newton solver on a square thin sheet (newton.gfmd, newton_*.bin). */
+ * sheet_resumed.bin); and the Newton solver on a square thin sheet (newton.gfmd, newton_*.bin), and
+ * on the same sheet with adhesion, where its trust region's radius is state that the file must
+ * keep (newton_adhesive.gfmd, newton_adhesive_*.bin; it fails with the radius left out: checked). */
 #include <gfmd.h>
 #include <stdio.h>
 #include <string.h>
@@ -88,15 +90,17 @@ static int sheet(const sheet_run *c, const char *dir, int resume) {
 }
 
 /* The adhesive thin sheet: w = 0.25 (f(q_min w) = 2e5), Persson's A/A0 0.05, the default's
- * mass-weighted FIRE; and the Newton solver on a square grid without adhesion (w = 0.35, a stateless
- * solver whose cycle is rebuilt from the loaded surface: 2 steps, then 3). */
-static const sheet_run SHEETS[2] = {
+ * mass-weighted FIRE; and the Newton solver on a square grid without adhesion (w = 0.35, its cycle
+ * rebuilt from the loaded surface: 2 steps, then 3) and with it (its radius from the file: 2 steps,
+ * then 4; the radius grows to 4 rho in the first 2 and the third step reaches it). */
+static const sheet_run SHEETS[3] = {
     {"sheet", NY, 0.25, 1e-4, 1e-5, -1, GFMD_SOLVER_FIRE_MASS, 60, 80},
     {"newton", NX, 0.35, 0.0, 2e-5, GFMD_SOLVER_NEWTON, GFMD_SOLVER_NEWTON, 2, 3},
+    {"newton_adhesive", NX, 0.35, 1e-4, 2e-5, GFMD_SOLVER_NEWTON, GFMD_SOLVER_NEWTON, 2, 4},
 };
 
 static int sheets(const char *dir, int resume) {
-    return sheet(&SHEETS[0], dir, resume) && sheet(&SHEETS[1], dir, resume);
+    return sheet(&SHEETS[0], dir, resume) && sheet(&SHEETS[1], dir, resume) && sheet(&SHEETS[2], dir, resume);
 }
 
 int main(int argc, char **argv) {
