@@ -251,7 +251,9 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * q_t = q_max where lambda_s <= 4a; W >= 0.34 with a = lambda_s/4), and on the thinner sheets
  * GFMD_SOLVER_MASS_FIRE where f(q_min w) >= 2e4 at a load where Persson's A/A0 < 0.1,
  * GFMD_SOLVER_FIRE_MASS there instead if Persson's A/A0 < 0.02 or the sheet is thinner still,
- * q_t w < 4, and GFMD_SOLVER_FIRE otherwise;
+ * q_t w < 4, and GFMD_SOLVER_FIRE otherwise (but where f(q_min w) >= 2e4 a load that starts from a
+ * deformed surface takes GFMD_SOLVER_NEWTON at Persson's A/A0 < 0.15 from nx ny >= 1024^2 on, on a
+ * grid it takes: since 2026-11-29, later);
  * under displacement control without adhesion GFMD_SOLVER_CG where S sqrt(nx ny) <= 2e5 (a
  * half-space up to about 530^2, a bonded layer w = 64 a up to about 1700^2, w = 16 a up to about
  * 6900^2; a layer on a fluid foundation only where its longest wave is nearly a half-space's),

@@ -591,6 +591,19 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
         if (thickness >= kAutoAdhesiveCgThickness) return GFMD_SOLVER_CG;
         const double area = persson_contact_area(params_.sigma0);
         const bool soft = longest_wave_softness(grid_, body_, params_.e_star) >= kAutoApproachSoftness;
+        // The Newton method with its trust region (newton.hpp) on a load from a deformed surface at
+        // Persson's A/A0 < kAutoNewtonArea from kAutoNewtonPoints on, the bounds without adhesion.
+        // Measured 2026-11-29 (gfmd_bench --sweep --adhesion --columns newton,auto --verbose, one
+        // thread, the study's nine continuing loads; log docs/performance_logs/
+        // newton_adhesive_2026-11-29.log): at 2048^2 W = 0.088 356.39 s against the default's 614.36
+        // s, faster on every load (1.08-2.57x), W = 0.125 to 0.05 236.55 s against 447.43 s; at
+        // 1024^2 W = 0.088 and 0.177 76.14 s and 45.59 s against 107.73 s and 67.88 s, every load to
+        // 0.12 but one won (0.95x), above 0.15 0.88-1.68x; at 512^2 to 0.05-0.08 (1.01-1.64x), mixed
+        // above (0.66-1.32x; the nine loads 1.11x and 1.19x): from 1024^2 on, to 0.15 as without
+        // adhesion (the wins above 0.15 were not measured on enough bodies to move the bound).
+        if (soft && static_cast<double>(grid_.real_size()) >= kAutoNewtonPoints && area < kAutoNewtonArea &&
+            !surface_flat() && newton_refusal(grid_, params_)[0] == '\0')
+            return GFMD_SOLVER_NEWTON;
         if (!soft || !(area < kAutoApproachArea)) return GFMD_SOLVER_FIRE;
         const bool mass = thickness < kAutoMassThinnerThickness || (thickness < kAutoMassThickness && area < kAutoMassArea);
         return mass ? GFMD_SOLVER_FIRE_MASS : GFMD_SOLVER_MASS_FIRE;

@@ -736,8 +736,8 @@ static int32_t thin_continuing_choice(int64_t n, double lambda_s, double width) 
 
 /* Since 2026-11-29 a thin sheet's load from a deformed surface (here W = 0.088, w = 0.352 a, q_max w
  * = 1.6) takes the Newton method from 1024^2 on while Persson's A/A0 < 0.15, the thin sheets'
- * choice above that and on smaller grids (docs/performance.md, "The active-set Newton method in the
- * library"; test_newton has the method itself). */
+ * choice above that and on smaller grids, with adhesion too (docs/performance.md, "The active-set
+ * Newton method in the library"; test_newton has the method itself). */
 static void automatic_choice_newton(void **state) {
     (void)state;
     if (ts_valgrind()) skip(); /* four 1024^2 handles: 20 s there; the rule is arithmetic, run natively and under the sanitizers */
@@ -745,6 +745,12 @@ static void automatic_choice_newton(void **state) {
     assert_int_equal(thin_continuing_choice_at(1024, 4.0, 0.352, 0.14), GFMD_SOLVER_NEWTON);
     assert_int_equal(thin_continuing_choice_at(1024, 4.0, 0.352, 0.16), GFMD_SOLVER_FIRE);
     assert_int_equal(thin_continuing_choice_at(512, 4.0, 0.352, 0.01), GFMD_SOLVER_FIRE_MASS);
+    /* with the study's adhesion (since 2026-11-29, its trust region) the same bounds: from 1024^2 on
+     * below Persson's A/A0 = 0.15, mass-weighted FIRE (q_t w < 4) below 0.1 at 512^2, FIRE above */
+    assert_int_equal(thin_continuing_choice_adhesive(1024, 4.0, 0.352, 0.01, 5e-4), GFMD_SOLVER_NEWTON);
+    assert_int_equal(thin_continuing_choice_adhesive(1024, 4.0, 0.352, 0.14, 5e-4), GFMD_SOLVER_NEWTON);
+    assert_int_equal(thin_continuing_choice_adhesive(1024, 4.0, 0.352, 0.16, 5e-4), GFMD_SOLVER_FIRE);
+    assert_int_equal(thin_continuing_choice_adhesive(512, 4.0, 0.352, 0.01, 5e-4), GFMD_SOLVER_FIRE_MASS);
 }
 
 /* Below 2048^2 a thin soft sheet's continuing load takes the thin sheets' choice only where the
