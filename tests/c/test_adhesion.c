@@ -216,7 +216,11 @@ static void adhesion_cg_descends(void **state) {
 static void adhesion_newton(void **state) {
     (void)state;
     const double widths[] = {1.0, 0.5, 4.0};
-    for (size_t w = 0; w < 3; ++w) check_body(GFMD_GREEN_LAYER_FLUID, widths[w], GFMD_SOLVER_NEWTON);
+    /* under valgrind the first sheet's checks only (the same code; FIRE's comparison runs natively
+     * and under the sanitizers) */
+    const size_t count = ts_valgrind() ? 1 : 3;
+    for (size_t w = 0; w < count; ++w) check_body(GFMD_GREEN_LAYER_FLUID, widths[w], GFMD_SOLVER_NEWTON);
+    if (ts_valgrind()) return;
     descends(GFMD_SOLVER_NEWTON, widths, 2);
     for (size_t w = 0; w < 3; ++w) {
         double area[2], el[2], ad[2];
