@@ -98,6 +98,37 @@ static void check_body(int32_t kind, double width, int32_t solver) {
     gfmd_sim_destroy(&s);
 }
 
+/* solver and FIRE from the same start, both to a residual of 1e-10: the contact set to a point,
+ * U_el and U_ad to 1e-7 */
+static void same_equilibrium_as_fire(int32_t solver, int32_t kind, double width) {
+    double area[2], el[2], ad[2];
+    int64_t steps[2];
+    const int32_t solvers[2] = {GFMD_SOLVER_FIRE, solver};
+    for (int k = 0; k < 2; ++k) {
+        gfmd_sim *s = ts_create(N, N, L, L);
+        TS_OK(s, gfmd_generate_selfaffine(s, 0.8, 16.0, 4.0, 1.0, 77, GFMD_DIST_UNIFORM));
+        TS_OK(s, gfmd_set_poisson(s, 0.3));
+        if (kind != GFMD_GREEN_HALFSPACE) TS_OK(s, gfmd_set_green(s, kind, width));
+        TS_OK(s, gfmd_set_adhesion(s, GAMMA0, RHO));
+        TS_OK(s, gfmd_set_solver(s, solvers[k]));
+        int32_t active = -1;
+        TS_OK(s, gfmd_get_solver(s, &active));
+        assert_int_equal(active, solvers[k]);
+        TS_OK(s, gfmd_set_pressure(s, SIGMA0));
+        TS_OK(s, gfmd_relax(s, 1e-10, 400000, &steps[k]));
+        TS_OK(s, gfmd_get_contact_area(s, &area[k]));
+        TS_OK(s, gfmd_get_energies(s, &el[k], &ad[k]));
+        gfmd_sim_destroy(&s);
+    }
+    print_message("solver %d, kind %d, w = %g: FIRE %lld steps, the other %lld; A/A0 %.6f / %.6f, U_el %.10g / %.10g, "
+                  "U_ad %.10g / %.10g\n",
+                  solver, kind, width, (long long)steps[0], (long long)steps[1], area[0], area[1], el[0], el[1], ad[0],
+                  ad[1]);
+    assert_true(fabs(area[0] - area[1]) * N * N <= 1.0);
+    assert_true(ts_rel(el[0], el[1]) < 1e-7);
+    assert_true(ts_rel(ad[0], ad[1]) < 1e-7);
+}
+
 static void adhesion_halfspace(void **state) {
     (void)state;
     check_body(GFMD_GREEN_HALFSPACE, 0.0, GFMD_SOLVER_FIRE);
@@ -141,32 +172,8 @@ static void adhesion_cg(void **state) {
                   {GFMD_GREEN_LAYER_FLUID, 1.0},
                   {GFMD_GREEN_LAYER_FLUID, 4.0},
                   {GFMD_GREEN_LAYER_FLUID, 16.0}};
-    for (size_t w = 0; w < sizeof bodies / sizeof bodies[0]; ++w) {
-        double area[2], el[2], ad[2];
-        int64_t steps[2];
-        const int32_t solvers[2] = {GFMD_SOLVER_FIRE, GFMD_SOLVER_CG};
-        for (int k = 0; k < 2; ++k) {
-            gfmd_sim *s = ts_create(N, N, L, L);
-            TS_OK(s, gfmd_generate_selfaffine(s, 0.8, 16.0, 4.0, 1.0, 77, GFMD_DIST_UNIFORM));
-            TS_OK(s, gfmd_set_poisson(s, 0.3));
-            if (bodies[w].kind != GFMD_GREEN_HALFSPACE) TS_OK(s, gfmd_set_green(s, bodies[w].kind, bodies[w].width));
-            TS_OK(s, gfmd_set_adhesion(s, GAMMA0, RHO));
-            TS_OK(s, gfmd_set_solver(s, solvers[k]));
-            int32_t active = -1;
-            TS_OK(s, gfmd_get_solver(s, &active));
-            assert_int_equal(active, solvers[k]);
-            TS_OK(s, gfmd_set_pressure(s, SIGMA0));
-            TS_OK(s, gfmd_relax(s, 1e-10, 400000, &steps[k]));
-            TS_OK(s, gfmd_get_contact_area(s, &area[k]));
-            TS_OK(s, gfmd_get_energies(s, &el[k], &ad[k]));
-            gfmd_sim_destroy(&s);
-        }
-        print_message("kind %d, w = %g: FIRE %lld steps, CG %lld iterations; A/A0 %.6f / %.6f, U_el %.10g / %.10g, U_ad %.10g / %.10g\n",
-                      bodies[w].kind, bodies[w].width, (long long)steps[0], (long long)steps[1], area[0], area[1], el[0], el[1], ad[0], ad[1]);
-        assert_true(fabs(area[0] - area[1]) * N * N <= 1.0);
-        assert_true(ts_rel(el[0], el[1]) < 1e-7);
-        assert_true(ts_rel(ad[0], ad[1]) < 1e-7);
-    }
+    for (size_t w = 0; w < sizeof bodies / sizeof bodies[0]; ++w)
+        same_equilibrium_as_fire(GFMD_SOLVER_CG, bodies[w].kind, bodies[w].width);
 }
 
 /* Every iteration of the adhesive CG (or step of the Newton method) lowers the energy U_el - U_ad +
@@ -222,28 +229,7 @@ static void adhesion_newton(void **state) {
     for (size_t w = 0; w < count; ++w) check_body(GFMD_GREEN_LAYER_FLUID, widths[w], GFMD_SOLVER_NEWTON);
     if (ts_valgrind()) return;
     descends(GFMD_SOLVER_NEWTON, widths, 2);
-    for (size_t w = 0; w < 3; ++w) {
-        double area[2], el[2], ad[2];
-        int64_t steps[2];
-        const int32_t solvers[2] = {GFMD_SOLVER_FIRE, GFMD_SOLVER_NEWTON};
-        for (int k = 0; k < 2; ++k) {
-            gfmd_sim *s = ts_create(N, N, L, L);
-            TS_OK(s, gfmd_generate_selfaffine(s, 0.8, 16.0, 4.0, 1.0, 77, GFMD_DIST_UNIFORM));
-            TS_OK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, widths[w]));
-            TS_OK(s, gfmd_set_adhesion(s, GAMMA0, RHO));
-            TS_OK(s, gfmd_set_solver(s, solvers[k]));
-            TS_OK(s, gfmd_set_pressure(s, SIGMA0));
-            TS_OK(s, gfmd_relax(s, 1e-10, 400000, &steps[k]));
-            TS_OK(s, gfmd_get_contact_area(s, &area[k]));
-            TS_OK(s, gfmd_get_energies(s, &el[k], &ad[k]));
-            gfmd_sim_destroy(&s);
-        }
-        print_message("w = %g: FIRE %lld steps, Newton %lld steps; A/A0 %.6f / %.6f, U_el %.10g / %.10g, U_ad %.10g / %.10g\n",
-                      widths[w], (long long)steps[0], (long long)steps[1], area[0], area[1], el[0], el[1], ad[0], ad[1]);
-        assert_true(fabs(area[0] - area[1]) * N * N <= 1.0);
-        assert_true(ts_rel(el[0], el[1]) < 1e-7);
-        assert_true(ts_rel(ad[0], ad[1]) < 1e-7);
-    }
+    for (size_t w = 0; w < 3; ++w) same_equilibrium_as_fire(GFMD_SOLVER_NEWTON, GFMD_GREEN_LAYER_FLUID, widths[w]);
 }
 
 int main(void) {
