@@ -26,16 +26,19 @@ constexpr int kMaxHalvings = 20;  // alpha down to 2^-20, about 1e-6 (the measur
 constexpr double kTrustStart = 1.0;
 constexpr double kTrustFloor = 0.3;
 
-// exp(-x) - 1 + x (>= 0) without the cancellation of its terms for small x: the adhesive law's
-// part of a move's energy beyond its first order, per unit of the point's weight exp(-g/rho).
-double exp_remainder(double x) {
-    if (!(std::fabs(x) < 0.5)) return std::expm1(-x) + x;
+// A point's adhesive energy beyond first order in a move delta, per unit of gamma0:
+// exp(-g1/rho) - e0 + e0 x (>= 0), e0 = exp(-g0/rho) its weight before, g1 = g0 + delta >= 0 the
+// gap after, x = delta/rho; for |x| < 0.5 as e0 (exp(-x) - 1 + x) by its series, without the
+// cancellation of its terms (and for larger |x| from the gap after, which cannot overflow where
+// e0 underflowed: exp(-x) alone could).
+double adhesive_rest(double e0, double x, double g1_over_rho) {
+    if (!(std::fabs(x) < 0.5)) return std::exp(-g1_over_rho) - e0 + e0 * x;
     double term = 0.5 * x * x, sum = term;  // sum over k >= 2 of (-x)^k / k!; |x| < 0.5: to k = 17
     for (int k = 3; k <= 17; ++k) {         // the next term below 1e-17 of the sum
         term *= -x / static_cast<double>(k);
         sum += term;
     }
-    return sum;
+    return e0 * sum;
 }
 
 // c0 of the stencil c0 L^2 fitted to k(q) in relative error over the modes with a stiffness:
@@ -227,7 +230,7 @@ void ActiveSetNewton::advance(StepContext &c) {
     // The move to max(h, z + alpha d): delta = that - z (in r) and the energy's change
     // -(A/N) F.delta + (A/2N^2) sum_q k |delta(q)|^2 (forces.cpp's units), the factor A/N dropped;
     // with adhesion plus the adhesive law's part beyond the first order, -gamma0 sum of
-    // e (exp(-delta/rho) - 1 + delta/rho) (F holds its first order).
+    // e (exp(-delta/rho) - 1 + delta/rho) (F holds its first order; adhesive_rest).
     double alpha = 1.0;
     for (int halving = 0;; ++halving, alpha *= 0.5) {
         const auto m = grid.sum_points<3>([&](int64_t i0, int64_t i1, double *acc) {
@@ -239,7 +242,8 @@ void ActiveSetNewton::advance(StepContext &c) {
                 fd += f[i] * r[i];
             }
             if (adhesive)
-                for (int64_t i = i0; i < i1; ++i) rest += r[i] == 0.0 ? 0.0 : e[i] * exp_remainder(r[i] * inv_rho);
+                for (int64_t i = i0; i < i1; ++i)
+                    if (r[i] != 0.0) rest += adhesive_rest(e[i], r[i] * inv_rho, (z[i] + r[i] - h[i]) * inv_rho);
             acc[0] += fd;
             acc[1] += hits;
             acc[2] += rest;
