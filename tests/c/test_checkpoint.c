@@ -267,14 +267,18 @@ static void write_rehashed(const char *path, unsigned char *buf, long n) {
     write_raw(path, buf, n);
 }
 
-/* The same for format 5: buf[0..n) with k fields, its row hashes recomputed and then the hash of
- * the header and the row hashes, as a forger would. */
-static void write_rehashed5(const char *path, unsigned char *buf, long n, int k) {
-    const long table = n - 8 - 8L * k * NY, fields_at = table - 8L * k * NX * NY;
-    for (long row = 0; row < k * NY; ++row)
-        put_le(fnv(0xcbf29ce484222325ULL, buf + fields_at + row * 8L * NX, 8L * NX), buf + table + 8 * row);
+/* The same for format 5: buf[0..n) with k fields of an nx x ny grid, its row hashes recomputed and
+ * then the hash of the header and the row hashes, as a forger would. */
+static void write_rehashed5_grid(const char *path, unsigned char *buf, long n, int k, long nx, long ny) {
+    const long table = n - 8 - 8L * k * ny, fields_at = table - 8L * k * nx * ny;
+    for (long row = 0; row < k * ny; ++row)
+        put_le(fnv(0xcbf29ce484222325ULL, buf + fields_at + row * 8L * nx, 8L * nx), buf + table + 8 * row);
     put_le(fnv(fnv(0xcbf29ce484222325ULL, buf, fields_at), buf + table, n - 8 - table), buf + n - 8);
     write_raw(path, buf, n);
+}
+
+static void write_rehashed5(const char *path, unsigned char *buf, long n, int k) {
+    write_rehashed5_grid(path, buf, n, k, NX, NY);
 }
 
 /* The bytes of a fresh checkpoint of the FIRE body (n of them). */
@@ -551,6 +555,57 @@ static void surface_cg_flag_values(void **state) {
     remove("damaged.gfmd");
 }
 
+/* The Newton solver's state is its trust region's radius in units of rho (used with adhesion; one
+ * number, >= 0.3).  A file of a library before the trust region holds none: it loads, with the
+ * radius of a restart, and relaxes to the tolerance; a radius below the floor, negative, NaN or
+ * infinite is refused (gfmd.h: a checkpoint that is not one the library wrote).  64^2 (the solver
+ * takes square power-of-2 grids), restart_process's adhesive sheet, 2 steps: the radius grew to 4. */
+static void newton_radius_values(void **state) {
+    (void)state;
+    enum { M = 64 };
+    gfmd_sim *a = ts_create(M, M, (double)M, (double)M);
+    TS_OK(a, gfmd_generate_selfaffine(a, 0.8, 16.0, 4.0, 0.1, 9, GFMD_DIST_UNIFORM));
+    TS_OK(a, gfmd_set_green(a, GFMD_GREEN_LAYER_FLUID, 0.35));
+    TS_OK(a, gfmd_set_adhesion(a, 1e-4, 0.5));
+    TS_OK(a, gfmd_set_pressure(a, 2e-5));
+    TS_OK(a, gfmd_set_solver(a, GFMD_SOLVER_NEWTON));
+    TS_OK(a, gfmd_step(a, 2));
+    TS_OK(a, gfmd_sim_save(a, PATH));
+    long n = 0;
+    unsigned char *buf = read_all(PATH, &n);
+    uint32_t k = 0;
+    memcpy(&k, buf + OFF_STATE, 4);
+    assert_int_equal(k, 1);
+    double radius = -1.0;
+    memcpy(&radius, buf + OFF_STATE + 4, 8);
+    print_message("radius after 2 steps: %g rho\n", radius);
+    assert_true(radius > 1.0); /* it grew: the state is not the restart's */
+    const double bad[] = {0.2, -1.0, NAN, INFINITY};
+    for (size_t j = 0; j < sizeof bad / sizeof bad[0]; ++j) {
+        memcpy(buf + OFF_STATE + 4, &bad[j], 8);
+        write_rehashed5_grid("damaged.gfmd", buf, n, 3, M, M);
+        expect_refused(GFMD_ERR_FORMAT, "Newton radius out of range");
+    }
+    /* without the number, as an older library wrote it */
+    const long cut = OFF_STATE + 4;
+    memmove(buf + cut, buf + cut + 8, (size_t)(n - cut - 8));
+    k = 0;
+    memcpy(buf + OFF_STATE, &k, 4);
+    write_rehashed5_grid(PATH, buf, n - 8, 3, M, M);
+    gfmd_sim *b = NULL;
+    char msg[256] = "";
+    if (gfmd_sim_load(PATH, &b, msg, sizeof msg) != GFMD_OK) fail_msg("%s", msg);
+    int32_t solver = -1;
+    TS_OK(b, gfmd_get_solver(b, &solver));
+    assert_int_equal(solver, GFMD_SOLVER_NEWTON);
+    TS_OK(b, gfmd_relax(b, 1e-9, 10000, NULL));
+    free(buf);
+    gfmd_sim_destroy(&a);
+    gfmd_sim_destroy(&b);
+    remove(PATH);
+    remove("damaged.gfmd");
+}
+
 /* A GFMD_SOLVER_MASS_FIRE file written before mass-weighted FIRE kept its frequency estimates per
  * contact bucket (7 numbers of state: the approach's count, the mass-weighted control's 3 and
  * FIRE's 3, instead of 1 + 51 + 3) still loads and resumes bit for bit: the approach keeps the
@@ -694,6 +749,7 @@ int main(void) {
         cmocka_unit_test(pk_restarts_when_every_pressure_clears),
         cmocka_unit_test(surface_cg_flag_values),
         cmocka_unit_test(mass_fire_state_without_estimates_resumes),
+        cmocka_unit_test(newton_radius_values),
         cmocka_unit_test(forged_headers_are_refused),
         cmocka_unit_test(forged_cg_with_adhesion_under_displacement_is_refused),
         cmocka_unit_test(failed_save_leaves_nothing),
