@@ -580,8 +580,7 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
             if (soft && !thin) return GFMD_SOLVER_CG;  // the middle widths
             const double area = persson_contact_area(params_.sigma0);
             if (!thin) return area < kAutoContinueFireArea ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE;
-            if (points >= kAutoNewtonPoints && area < kAutoNewtonArea && newton_refusal(grid_, params_)[0] == '\0')
-                return GFMD_SOLVER_NEWTON;
+            if (newton_takes_load(area)) return GFMD_SOLVER_NEWTON;
             const double mass_area = kAutoContinueMassThicknessArea / thickness;
             if (area < mass_area) return GFMD_SOLVER_FIRE_MASS;
             return area < std::min(2.0 * mass_area, kAutoContinueThinFireArea) ? GFMD_SOLVER_MASS_FIRE
@@ -601,9 +600,7 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
         // 0.12 but one won (0.95x), above 0.15 0.88-1.68x; at 512^2 to 0.05-0.08 (1.01-1.64x), mixed
         // above (0.66-1.32x; the nine loads 1.11x and 1.19x): from 1024^2 on, to 0.15 as without
         // adhesion (the wins above 0.15 were not measured on enough bodies to move the bound).
-        if (soft && static_cast<double>(grid_.real_size()) >= kAutoNewtonPoints && area < kAutoNewtonArea &&
-            !surface_flat() && newton_refusal(grid_, params_)[0] == '\0')
-            return GFMD_SOLVER_NEWTON;
+        if (soft && !surface_flat() && newton_takes_load(area)) return GFMD_SOLVER_NEWTON;
         if (!soft || !(area < kAutoApproachArea)) return GFMD_SOLVER_FIRE;
         const bool mass = thickness < kAutoMassThinnerThickness || (thickness < kAutoMassThickness && area < kAutoMassArea);
         return mass ? GFMD_SOLVER_FIRE_MASS : GFMD_SOLVER_MASS_FIRE;
@@ -649,6 +646,11 @@ double Simulation::overlap_fraction() const {
         acc[0] += c;
     });
     return above[0] / static_cast<double>(grid_.real_size());
+}
+
+bool Simulation::newton_takes_load(double area) const {
+    return static_cast<double>(grid_.real_size()) >= kAutoNewtonPoints && area < kAutoNewtonArea &&
+           newton_refusal(grid_, params_)[0] == '\0';
 }
 
 bool Simulation::surface_flat() const {

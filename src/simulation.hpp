@@ -105,6 +105,9 @@ private:
     void apply_control();  // under displacement control: z projected onto mean(z) = mean_z
     int32_t resolve_solver(int32_t requested) const;
     bool surface_flat() const;  // z the same everywhere (a reset or new substrate; no load carried yet)
+    // the Newton method's bounds on a thin sheet's load (from 1024^2 on, Persson's A/A0 < 0.15, a grid
+    // it takes), with and without adhesion (resolve_solver)
+    bool newton_takes_load(double persson_area) const;
     double overlap_fraction() const;  // the points whose substrate lies above the prescribed mean position
     double roughness_thickness() const;  // 2 sqrt(2) q_s w: the width against the substrate's shortest wave
     double adhesive_thickness() const;   // min(q_max w, roughness_thickness()) (simulation.cpp)

@@ -141,15 +141,17 @@ void ActiveSetNewton::advance(StepContext &c) {
             acc[0] += t;
         })[0];
     };
-    // the largest t >= 0 with max |d + t x| <= radius on the free points (0 if x is 0 there)
-    const auto to_edge = [&](const double *x) {
-        const double t = -grid.max_points<1>([&](int64_t i0, int64_t i1, double *top) {
+    // the largest t >= 0 with max |d + t sign p| <= radius on the free points (0 if p is 0 there):
+    // how far the CG's iterate may go along sign p before it leaves the trust region
+    const auto to_edge = [&](double sign) {
+        const double top = grid.max_points<1>([&](int64_t i0, int64_t i1, double *m) {
             for (int64_t i = i0; i < i1; ++i) {
-                if (held[i] || x[i] == 0.0) continue;
-                top[0] = std::max(top[0], -(x[i] > 0.0 ? (radius - d[i]) / x[i] : (radius + d[i]) / -x[i]));
+                const double x = sign * p[i];
+                if (held[i] || x == 0.0) continue;
+                m[0] = std::max(m[0], -(x > 0.0 ? (radius - d[i]) / x : (radius + d[i]) / -x));
             }
         })[0];
-        return std::isfinite(t) ? std::max(t, 0.0) : 0.0;
+        return std::isfinite(top) ? std::max(-top, 0.0) : 0.0;
     };
     const auto step_along = [&](double t, double sign) {  // d += t sign p
         grid.for_points([&](int64_t i0, int64_t i1) {
@@ -188,10 +190,7 @@ void ActiveSetNewton::advance(StepContext &c) {
         if (!(pkp > 0.0)) {
             if (adhesive) {  // along p, downhill for the model, to the region's edge (Steihaug)
                 const double sign = curv[1] >= 0.0 ? 1.0 : -1.0;
-                grid.for_points([&](int64_t i0, int64_t i1) {
-                    for (int64_t i = i0; i < i1; ++i) s[i] = sign * p[i];
-                });
-                step_along(to_edge(s), sign);
+                step_along(to_edge(sign), sign);
                 edge = true;
             } else if (it == 1) {  // no curvature along p (no contact holds the sheet): the first direction
                 grid.for_points([&](int64_t i0, int64_t i1) {
@@ -202,7 +201,7 @@ void ActiveSetNewton::advance(StepContext &c) {
         }
         const double a = rs / pkp;
         if (adhesive) {
-            const double t = to_edge(p);
+            const double t = to_edge(1.0);
             if (a > t) {  // the next iterate would leave the region: to its edge
                 step_along(t, 1.0);
                 edge = true;
