@@ -79,15 +79,21 @@ static void same_surfaces_then_destroy(gfmd_sim *a, gfmd_sim *b) {
     remove(PATH);
 }
 
-/* Loads PATH (saved from a), checks that it runs `solver`, continues both `steps` steps and
- * compares the surfaces bit for bit; destroys a. */
-static void expect_resumed(gfmd_sim *a, int32_t solver, int64_t steps) {
+/* Loads PATH and checks that the handle runs `solver`. */
+static gfmd_sim *load_running(int32_t solver) {
     gfmd_sim *b = NULL;
     char msg[256] = "";
     if (gfmd_sim_load(PATH, &b, msg, sizeof msg) != GFMD_OK) fail_msg("%s", msg);
     int32_t active = -1;
     TS_OK(b, gfmd_get_solver(b, &active));
     assert_int_equal(active, solver);
+    return b;
+}
+
+/* Loads PATH (saved from a), checks that it runs `solver`, continues both `steps` steps and
+ * compares the surfaces bit for bit; destroys a. */
+static void expect_resumed(gfmd_sim *a, int32_t solver, int64_t steps) {
+    gfmd_sim *b = load_running(solver);
     TS_OK(a, gfmd_step(a, steps));
     TS_OK(b, gfmd_step(b, steps));
     same_surfaces_then_destroy(a, b);
@@ -400,23 +406,30 @@ static void older_formats_resume(void **state) {
     remove(PATH);
 }
 
+/* Saves a to PATH and returns the file's bytes (*n of them), its solver state asserted to hold
+ * `count` numbers, *value the one at `index`. */
+static unsigned char *saved_with_state(gfmd_sim *a, uint32_t count, int index, long *n, double *value) {
+    TS_OK(a, gfmd_sim_save(a, PATH));
+    unsigned char *buf = read_all(PATH, n);
+    uint32_t k = 0;
+    memcpy(&k, buf + OFF_STATE, 4);
+    assert_int_equal(k, count);
+    memcpy(value, buf + OFF_STATE + 4 + 8L * index, 8);
+    return buf;
+}
+
 /* Saves a (its solver state of `count` numbers checked, the number at `probe` equal to
  * `expect`), drops `drop` numbers from the state after its first `keep` as an older library's
  * file would not have them, rehashes the file (`fields` grid fields) and loads it. */
 static gfmd_sim *saved_without(gfmd_sim *a, uint32_t count, int probe, double expect, int keep, int drop, int fields) {
-    TS_OK(a, gfmd_sim_save(a, PATH));
     long n = 0;
-    unsigned char *buf = read_all(PATH, &n);
-    uint32_t k = 0;
-    memcpy(&k, buf + OFF_STATE, 4);
-    assert_int_equal(k, count);
     double x = -1.0;
-    memcpy(&x, buf + OFF_STATE + 4 + 8 * probe, 8);
+    unsigned char *buf = saved_with_state(a, count, probe, &n, &x);
     assert_true(x == expect);
     const long cut = OFF_STATE + 4 + 8L * keep, bytes = 8L * drop;
     memmove(buf + cut, buf + cut + bytes, (size_t)(n - cut - bytes));
     n -= bytes;
-    k = count - (uint32_t)drop;
+    const uint32_t k = count - (uint32_t)drop;
     memcpy(buf + OFF_STATE, &k, 4);
     write_rehashed5(PATH, buf, n, fields);
     free(buf);
@@ -505,15 +518,10 @@ static void surface_cg_flag_values(void **state) {
     TS_OK(a, gfmd_set_solver(a, GFMD_SOLVER_CG));
     TS_OK(a, gfmd_set_pressure(a, 0.003));
     TS_OK(a, gfmd_step(a, 3));
-    TS_OK(a, gfmd_sim_save(a, PATH));
     long n = 0;
-    unsigned char *buf = read_all(PATH, &n);
-    uint32_t k = 0;
-    memcpy(&k, buf + OFF_STATE, 4);
-    assert_int_equal(k, 8);
-    const long flag_at = OFF_STATE + 4 + 8;
     double saved = -1.0;
-    memcpy(&saved, buf + flag_at, 8);
+    unsigned char *buf = saved_with_state(a, 8, 1, &n, &saved);
+    const long flag_at = OFF_STATE + 4 + 8;
     assert_true(saved == 0.0 || saved == 1.0);
     int64_t steps_a = 0;
     TS_OK(a, gfmd_relax(a, 1e-10, 100000, &steps_a));
@@ -570,14 +578,9 @@ static void newton_radius_values(void **state) {
     TS_OK(a, gfmd_set_pressure(a, 2e-5));
     TS_OK(a, gfmd_set_solver(a, GFMD_SOLVER_NEWTON));
     TS_OK(a, gfmd_step(a, 2));
-    TS_OK(a, gfmd_sim_save(a, PATH));
     long n = 0;
-    unsigned char *buf = read_all(PATH, &n);
-    uint32_t k = 0;
-    memcpy(&k, buf + OFF_STATE, 4);
-    assert_int_equal(k, 1);
     double radius = -1.0;
-    memcpy(&radius, buf + OFF_STATE + 4, 8);
+    unsigned char *buf = saved_with_state(a, 1, 0, &n, &radius);
     print_message("radius after 2 steps: %g rho\n", radius);
     assert_true(radius > 1.0); /* it grew: the state is not the restart's */
     const double bad[] = {0.2, -1.0, NAN, INFINITY};
@@ -589,15 +592,10 @@ static void newton_radius_values(void **state) {
     /* without the number, as an older library wrote it */
     const long cut = OFF_STATE + 4;
     memmove(buf + cut, buf + cut + 8, (size_t)(n - cut - 8));
-    k = 0;
-    memcpy(buf + OFF_STATE, &k, 4);
+    const uint32_t none = 0;
+    memcpy(buf + OFF_STATE, &none, 4);
     write_rehashed5_grid(PATH, buf, n - 8, 3, M, M);
-    gfmd_sim *b = NULL;
-    char msg[256] = "";
-    if (gfmd_sim_load(PATH, &b, msg, sizeof msg) != GFMD_OK) fail_msg("%s", msg);
-    int32_t solver = -1;
-    TS_OK(b, gfmd_get_solver(b, &solver));
-    assert_int_equal(solver, GFMD_SOLVER_NEWTON);
+    gfmd_sim *b = load_running(GFMD_SOLVER_NEWTON);
     TS_OK(b, gfmd_relax(b, 1e-9, 10000, NULL));
     free(buf);
     gfmd_sim_destroy(&a);
