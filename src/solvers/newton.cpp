@@ -26,19 +26,30 @@ constexpr int kMaxHalvings = 20;  // alpha down to 2^-20, about 1e-6 (the measur
 constexpr double kTrustStart = 1.0;
 constexpr double kTrustFloor = 0.3;
 
+// The coefficients of x^2 (1/2! - x/3! + x^2/4! - ...) = sum over k >= 2 of (-x)^k / k!, to
+// k = 17 (for |x| < 0.5 the next term is below 1e-17 of the sum): (-1)^j / (j + 2)!
+struct RestSeries {
+    double c[16];
+    constexpr RestSeries() : c() {
+        double f = 2.0;  // (j + 2)!
+        for (int j = 0; j < 16; ++j) {
+            c[j] = (j % 2 == 0 ? 1.0 : -1.0) / f;
+            f *= static_cast<double>(j + 3);
+        }
+    }
+};
+constexpr RestSeries kRestSeries;
+
 // A point's adhesive energy beyond first order in a move delta, per unit of gamma0:
 // exp(-g1/rho) - e0 + e0 x (>= 0), e0 = exp(-g0/rho) its weight before, g1 = g0 + delta >= 0 the
-// gap after, x = delta/rho; for |x| < 0.5 as e0 (exp(-x) - 1 + x) by its series, without the
-// cancellation of its terms (and for larger |x| from the gap after, which cannot overflow where
-// e0 underflowed: exp(-x) alone could).
+// gap after, x = delta/rho; for |x| < 0.5 as e0 (exp(-x) - 1 + x) by its series (Horner's rule:
+// no division, no cancellation of its terms), and for larger |x| from the gap after, which cannot
+// overflow where e0 underflowed: exp(-x) alone could.
 double adhesive_rest(double e0, double x, double g1_over_rho) {
     if (!(std::fabs(x) < 0.5)) return std::exp(-g1_over_rho) - e0 + e0 * x;
-    double term = 0.5 * x * x, sum = term;  // sum over k >= 2 of (-x)^k / k!; |x| < 0.5: to k = 17
-    for (int k = 3; k <= 17; ++k) {         // the next term below 1e-17 of the sum
-        term *= -x / static_cast<double>(k);
-        sum += term;
-    }
-    return e0 * sum;
+    double p = kRestSeries.c[15];
+    for (int j = 14; j >= 0; --j) p = p * x + kRestSeries.c[j];
+    return e0 * (x * x * p);
 }
 
 // c0 of the stencil c0 L^2 fitted to k(q) in relative error over the modes with a stiffness:
