@@ -137,23 +137,23 @@ void prolong_rows(int64_t m, const float *c, float *f, const unsigned char *held
     for (int64_t i = 0; i < m; i++) {
         const float *r0 = c + (i / 2) * mc, *r1 = (i % 2) ? c + wrap(i / 2 + 1, mc) * mc : r0;
         float *fr = f + i * m;
+        // the value at fine column 2J (Jn = J) or 2J + 1 (Jn the next coarse column)
+        const auto value = [&](int64_t J, int64_t Jn) { return 0.25f * (r0[J] + r0[Jn] + r1[J] + r1[Jn]); };
         if (held) {  // the held points keep their zero (a select; GCC 12 does not vectorize this loop)
             const unsigned char *h = held + i * m;
             for (int64_t J = 0; J + 1 < mc; J++) {
-                const float even = 0.25f * (r0[J] + r0[J] + r1[J] + r1[J]);
-                const float odd = 0.25f * (r0[J] + r0[J + 1] + r1[J] + r1[J + 1]);
-                fr[2 * J] = h[2 * J] ? fr[2 * J] : fr[2 * J] + even;
-                fr[2 * J + 1] = h[2 * J + 1] ? fr[2 * J + 1] : fr[2 * J + 1] + odd;
+                fr[2 * J] = h[2 * J] ? fr[2 * J] : fr[2 * J] + value(J, J);
+                fr[2 * J + 1] = h[2 * J + 1] ? fr[2 * J + 1] : fr[2 * J + 1] + value(J, J + 1);
             }
         } else {
             for (int64_t J = 0; J + 1 < mc; J++) {
-                fr[2 * J] += 0.25f * (r0[J] + r0[J] + r1[J] + r1[J]);
-                fr[2 * J + 1] += 0.25f * (r0[J] + r0[J + 1] + r1[J] + r1[J + 1]);
+                fr[2 * J] += value(J, J);
+                fr[2 * J + 1] += value(J, J + 1);
             }
         }
         const int64_t J = mc - 1;  // the last column pair, its odd point wrapped to column 0
-        if (!held || !held[i * m + 2 * J]) fr[2 * J] += 0.25f * (r0[J] + r0[J] + r1[J] + r1[J]);
-        if (!held || !held[i * m + 2 * J + 1]) fr[2 * J + 1] += 0.25f * (r0[J] + r0[0] + r1[J] + r1[0]);
+        if (!held || !held[i * m + 2 * J]) fr[2 * J] += value(J, J);
+        if (!held || !held[i * m + 2 * J + 1]) fr[2 * J + 1] += value(J, 0);
     }
 }
 
