@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <limits>
 #include <vector>
 
 #include "../constraint.hpp"
 #include "../error.hpp"
 #include "../kernels.hpp"
+#include "free_part.hpp"
 
 namespace gfmd {
 
@@ -51,6 +53,9 @@ double adhesive_rest(double e0, double x, double g1_over_rho) {
     for (int j = 14; j >= 0; --j) p = p * x + kRestSeries.c[j];
     return e0 * (x * x * p);
 }
+
+// Lanes of the trust region's minimum (to_edge): a minimum is exact in any order.
+constexpr int kLanes = 8;
 
 // c0 of the stencil c0 L^2 fitted to k(q) in relative error over the modes with a stiffness:
 // minimizes sum (c0 y - 1)^2, y = lambda^2 / k, lambda = 4 - 2 cos(qx a) - 2 cos(qy a) the
@@ -153,14 +158,24 @@ void ActiveSetNewton::advance(StepContext &c) {
         })[0];
     };
     // the largest t >= 0 with max |d + t sign p| <= radius on the free points (0 if p is 0 there):
-    // how far the CG's iterate may go along sign p before it leaves the trust region
+    // how far the CG's iterate may go along sign p before it leaves the trust region.  Each free
+    // point's limit (radius - d sign x)/|x| computed at every point, the others' masked to
+    // +infinity (a minimum is exact in any order: lanes of their own need no care).
     const auto to_edge = [&](double sign) {
         const double top = grid.max_points<1>([&](int64_t i0, int64_t i1, double *m) {
-            for (int64_t i = i0; i < i1; ++i) {
-                const double x = sign * p[i];
-                if (held[i] || x == 0.0) continue;
-                m[0] = std::max(m[0], -(x > 0.0 ? (radius - d[i]) / x : (radius + d[i]) / -x));
-            }
+            const auto limit = [&](int64_t i, double low) {
+                const double x = sign * p[i], ax = std::fabs(x), t = (radius - std::copysign(1.0, x) * d[i]) / ax;
+                return (held[i] == 0) & (ax != 0.0) & (t < low) ? t : low;  // no branch: & not &&
+            };
+            double lo[kLanes];
+            for (double &x : lo) x = std::numeric_limits<double>::infinity();
+            int64_t i = i0;
+            for (; i + kLanes <= i1; i += kLanes)
+                for (int l = 0; l < kLanes; ++l) lo[l] = limit(i + l, lo[l]);
+            double low = std::numeric_limits<double>::infinity();
+            for (; i < i1; ++i) low = limit(i, low);
+            for (double x : lo) low = std::min(low, x);
+            m[0] = std::max(m[0], -low);
         })[0];
         return std::isfinite(top) ? std::max(-top, 0.0) : 0.0;
     };
@@ -184,13 +199,13 @@ void ActiveSetNewton::advance(StepContext &c) {
             double t = 0.0, u = 0.0;
             if (adhesive) {
                 for (int64_t i = i0; i < i1; ++i) {
-                    s[i] = held[i] ? 0.0 : -s[i] - soft * e[i] * p[i];
+                    s[i] = free_part(-s[i] - soft * e[i] * p[i], held[i]);
                     t += p[i] * s[i];
                     u += r[i] * p[i];
                 }
             } else {
                 for (int64_t i = i0; i < i1; ++i) {
-                    s[i] = held[i] ? 0.0 : -s[i];
+                    s[i] = free_part(-s[i], held[i]);
                     t += p[i] * s[i];
                 }
             }

@@ -4,6 +4,8 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "free_part.hpp"
+
 namespace gfmd {
 
 namespace {
@@ -35,18 +37,6 @@ inline float out(int mode, float x, float ax, float b, float dinv) {
     return mode == 0 ? ax : mode == 2 ? b - ax : x + dinv * (b - ax);  // apply, Jacobi, residual
 }
 
-// s at a free point, +0 at a held one (held 0 or 1): the same value as `held ? 0.0f : s`, but by
-// masking its bits.  Written as that select, GCC 12 sank the stencil's sum into the branch that
-// uses it, its loads became conditional and the row loops stayed scalar; masked, the sum is
-// needed at every point and the loops vectorize (-fopt-info-vec), 8 points an AVX2 instruction.
-inline float free_part(float s, unsigned char held) {
-    uint32_t bits;
-    std::memcpy(&bits, &s, sizeof bits);
-    bits &= static_cast<uint32_t>(held) - 1u;  // held 1: all bits cleared; 0: all kept
-    std::memcpy(&s, &bits, sizeof s);
-    return s;
-}
-
 // The 13-point L^2 as a 5 x 5 table, entry [dy + 2][dx + 2]
 constexpr double kL2[5][5] = {{0, 0, 1, 0, 0}, {0, 2, -8, 2, 0}, {1, -8, 20, -8, 1}, {0, 2, -8, 2, 0}, {0, 0, 1, 0, 0}};
 
@@ -67,7 +57,7 @@ GFMD_CLONES void fine_rows(int64_t m, const unsigned char *held, const float *x,
             const float s = GFMD_L2(j, wrap(j - 2, m), wrap(j - 1, m), wrap(j + 1, m), wrap(j + 2, m));
             yr[j] = out(mode, r0[j], h[j] ? 0.0f : s, br[j], dr[j]);
         }
-        // the interior without branches, so that it vectorizes (unmasked: see free_part)
+        // the interior without branches, so that it vectorizes (free_part.hpp)
         if (mode == 0)
             for (int64_t j = 2; j < m - 2; j++) yr[j] = free_part(GFMD_L2(j, j - 2, j - 1, j + 1, j + 2), h[j]);
         else if (mode == 2)
