@@ -141,11 +141,11 @@ void prolong_rows(int64_t m, const float *c, float *f, const unsigned char *held
         float *fr = f + i * m;
         // the value at fine column 2J (Jn = J) or 2J + 1 (Jn the next coarse column)
         const auto value = [&](int64_t J, int64_t Jn) { return 0.25f * (r0[J] + r0[Jn] + r1[J] + r1[Jn]); };
-        if (held) {  // the held points keep their zero (a select; GCC 12 does not vectorize this loop)
+        if (held) {  // the held points keep their +0 (+0 + +0: the masked value added is +0 there)
             const unsigned char *h = held + i * m;
             for (int64_t J = 0; J + 1 < mc; J++) {
-                fr[2 * J] = h[2 * J] ? fr[2 * J] : fr[2 * J] + value(J, J);
-                fr[2 * J + 1] = h[2 * J + 1] ? fr[2 * J + 1] : fr[2 * J + 1] + value(J, J + 1);
+                fr[2 * J] += free_part(value(J, J), h[2 * J]);
+                fr[2 * J + 1] += free_part(value(J, J + 1), h[2 * J + 1]);
             }
         } else {
             for (int64_t J = 0; J + 1 < mc; J++) {
@@ -217,12 +217,13 @@ void StencilMultigrid::jacobi(int l, int sweeps) {
 }
 
 // one V-cycle for level l's right-hand side b from x = 0 (its first sweep x = D^-1 b); into L.x
-void StencilMultigrid::cycle(int l) {
+void StencilMultigrid::cycle(int l, bool started) {
     Level &L = lv_[static_cast<std::size_t>(l)];
     const auto mm = static_cast<std::size_t>(L.m * L.m);
     float *x = L.x.data();
     const float *b = L.b.data(), *dinv = L.dinv.data();
-    for (std::size_t p = 0; p < mm; p++) x[p] = dinv[p] * b[p];
+    if (!started)
+        for (std::size_t p = 0; p < mm; p++) x[p] = dinv[p] * b[p];
     if (l + 1 == static_cast<int>(lv_.size())) {
         jacobi(l, kCoarsestSweeps - 1);
         return;
@@ -347,9 +348,13 @@ void StencilMultigrid::follow(const unsigned char *held) {
 void StencilMultigrid::apply_inverse(const double *b, double scale, double *x) {
     Level &L = lv_[0];
     const int64_t mm = L.m * L.m;
-    float *fb = L.b.data();
-    for (int64_t p = 0; p < mm; p++) fb[p] = static_cast<float>(b[p]);
-    cycle(0);
+    float *fb = L.b.data(), *fx0 = L.x.data();
+    const float *dinv = L.dinv.data();
+    for (int64_t p = 0; p < mm; p++) {  // b to floats and the first sweep in one pass
+        fb[p] = static_cast<float>(b[p]);
+        fx0[p] = dinv[p] * fb[p];
+    }
+    cycle(0, true);
     const float *fx = L.x.data();
     const double inv = 1.0 / scale;
     for (int64_t p = 0; p < mm; p++) x[p] = inv * static_cast<double>(fx[p]);

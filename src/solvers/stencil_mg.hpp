@@ -52,7 +52,8 @@ private:
     void restrict_to(int l, const float *f, float *c) const;
     void prolong_add(int l, const float *c, float *f) const;
     void jacobi(int l, int sweeps);
-    void cycle(int l);
+    // started: the caller has made the first sweep x = D^-1 b already
+    void cycle(int l, bool started = false);
     double entry(int l, int64_t y, int64_t x, int dy, int dx) const;
     void fine_weight(int64_t y, int64_t x);
     void coarse_row(int l, int64_t Y, int64_t X);
