@@ -47,15 +47,15 @@ constexpr RestSeries kRestSeries;
 // gap after, x = delta/rho; for |x| < 0.5 as e0 (exp(-x) - 1 + x) by its series (Horner's rule:
 // no division, no cancellation of its terms), and for larger |x| from the gap after, which cannot
 // overflow where e0 underflowed: exp(-x) alone could.
-double adhesive_rest(double e0, double x, double g1_over_rho) {
-    if (!(std::fabs(x) < 0.5)) return std::exp(-g1_over_rho) - e0 + e0 * x;
+// Split in two so that a pass over the points can vectorize the series: rest_series at every
+// point (its value for |x| >= 0.5 unused), rest_far where |x| >= 0.5 (rest_near tells which).
+inline bool rest_near(double x) { return std::fabs(x) < 0.5; }
+inline double rest_series(double e0, double x) {
     double p = kRestSeries.c[15];
     for (int j = 14; j >= 0; --j) p = p * x + kRestSeries.c[j];
     return e0 * (x * x * p);
 }
-
-// Lanes of the trust region's minimum (to_edge): a minimum is exact in any order.
-constexpr int kLanes = 8;
+inline double rest_far(double e0, double x, double g1_over_rho) { return std::exp(-g1_over_rho) - e0 + e0 * x; }
 
 // c0 of the stencil c0 L^2 fitted to k(q) in relative error over the modes with a stiffness:
 // minimizes sum (c0 y - 1)^2, y = lambda^2 / k, lambda = 4 - 2 cos(qx a) - 2 cos(qy a) the
@@ -160,21 +160,16 @@ void ActiveSetNewton::advance(StepContext &c) {
     // the largest t >= 0 with max |d + t sign p| <= radius on the free points (0 if p is 0 there):
     // how far the CG's iterate may go along sign p before it leaves the trust region.  Each free
     // point's limit (radius - d sign x)/|x| computed at every point, the others' masked to
-    // +infinity (a minimum is exact in any order: lanes of their own need no care).
+    // +infinity, the minimum in vector lanes (exact in any order).
     const auto to_edge = [&](double sign) {
         const double top = grid.max_points<1>([&](int64_t i0, int64_t i1, double *m) {
-            const auto limit = [&](int64_t i, double low) {
+            const double inf = std::numeric_limits<double>::infinity();
+            double low = inf;
+#pragma omp simd reduction(min : low)
+            for (int64_t i = i0; i < i1; ++i) {
                 const double x = sign * p[i], ax = std::fabs(x), t = (radius - std::copysign(1.0, x) * d[i]) / ax;
-                return (held[i] == 0) & (ax != 0.0) & (t < low) ? t : low;  // no branch: & not &&
-            };
-            double lo[kLanes];
-            for (double &x : lo) x = std::numeric_limits<double>::infinity();
-            int64_t i = i0;
-            for (; i + kLanes <= i1; i += kLanes)
-                for (int l = 0; l < kLanes; ++l) lo[l] = limit(i + l, lo[l]);
-            double low = std::numeric_limits<double>::infinity();
-            for (; i < i1; ++i) low = limit(i, low);
-            for (double x : lo) low = std::min(low, x);
+                low = std::min(low, (held[i] == 0) & (ax != 0.0) ? t : inf);  // no branch: & not &&
+            }
             m[0] = std::max(m[0], -low);
         })[0];
         return std::isfinite(top) ? std::max(-top, 0.0) : 0.0;
@@ -255,7 +250,7 @@ void ActiveSetNewton::advance(StepContext &c) {
     // The move to max(h, z + alpha d): delta = that - z (in r) and the energy's change
     // -(A/N) F.delta + (A/2N^2) sum_q k |delta(q)|^2 (forces.cpp's units), the factor A/N dropped;
     // with adhesion plus the adhesive law's part beyond the first order, -gamma0 sum of
-    // e (exp(-delta/rho) - 1 + delta/rho) (F holds its first order; adhesive_rest).
+    // e (exp(-delta/rho) - 1 + delta/rho) (F holds its first order; rest_series, rest_far).
     double alpha = 1.0;
     for (int halving = 0;; ++halving, alpha *= 0.5) {
         const auto m = grid.sum_points<3>([&](int64_t i0, int64_t i1, double *acc) {
@@ -266,9 +261,14 @@ void ActiveSetNewton::advance(StepContext &c) {
                 r[i] = (zn < h[i] ? h[i] : zn) - z[i];
                 fd += f[i] * r[i];
             }
-            if (adhesive)
-                for (int64_t i = i0; i < i1; ++i)
-                    if (r[i] != 0.0) rest += adhesive_rest(e[i], r[i] * inv_rho, (z[i] + r[i] - h[i]) * inv_rho);
+            if (adhesive) {  // the series into s (free after the CG), vectorized; then summed in order
+                for (int64_t i = i0; i < i1; ++i) s[i] = rest_series(e[i], r[i] * inv_rho);
+                for (int64_t i = i0; i < i1; ++i) {
+                    if (r[i] == 0.0) continue;
+                    const double x = r[i] * inv_rho;
+                    rest += rest_near(x) ? s[i] : rest_far(e[i], x, (z[i] + r[i] - h[i]) * inv_rho);
+                }
+            }
             acc[0] += fd;
             acc[1] += hits;
             acc[2] += rest;
