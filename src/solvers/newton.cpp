@@ -9,6 +9,7 @@
 #include "../constraint.hpp"
 #include "../error.hpp"
 #include "../kernels.hpp"
+#include "../parallel.hpp"
 #include "free_part.hpp"
 
 namespace gfmd {
@@ -102,6 +103,7 @@ ActiveSetNewton::ActiveSetNewton(int64_t side)
       s_(static_cast<std::size_t>(side * side)),
       e_(static_cast<std::size_t>(side * side)),
       held_(static_cast<std::size_t>(side * side)),
+      block_top_(static_cast<std::size_t>(block_count(side * side, kBlock))),
       mg_(side) {}
 
 void ActiveSetNewton::set_state(const std::vector<double> &s) {
@@ -122,6 +124,7 @@ void ActiveSetNewton::advance(StepContext &c) {
     const double *__restrict h = c.fields.h.data(), *__restrict f = c.fields.f.data();
     double *__restrict r = r_.data(), *__restrict p = p_.data(), *__restrict s = s_.data(), *__restrict e = e_.data();
     unsigned char *__restrict held = held_.data();
+    std::vector<double> &block_top = block_top_;  // one number per kBlock block of points
     std::complex<double> *work = c.fields.work.data();
     const double *stiff = c.body.stiffness.data();
     const int64_t nxh = grid.nxh();
@@ -149,30 +152,27 @@ void ActiveSetNewton::advance(StepContext &c) {
     mg_.follow(held);
     if (!(c0_ > 0.0)) c0_ = stencil_scale(grid, c.body);  // once per restart (a new body restarts the solver)
     const double c0 = c0_;
-    const auto precondition = [&] {  // s = M^-1 r, returns r.s
-        mg_.apply_inverse(r, c0, s);
-        return grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
-            double t = 0.0;
-            for (int64_t i = i0; i < i1; ++i) t += r[i] * s[i];
-            acc[0] += t;
-        })[0];
-    };
+    // s = M^-1 r, returns r.s (summed as grid.sum_points sums on this serial grid: kBlock blocks)
+    const auto precondition = [&] { return mg_.apply_inverse(r, c0, s, kBlock); };
     // the largest t >= 0 with max |d + t sign p| <= radius on the free points (0 if p is 0 there):
     // how far the CG's iterate may go along sign p before it leaves the trust region.  Each free
     // point's limit (radius - d sign x)/|x| computed at every point, the others' masked to
     // +infinity, the minimum in vector lanes (exact in any order).
-    const auto to_edge = [&](double sign) {
-        const double top = grid.max_points<1>([&](int64_t i0, int64_t i1, double *m) {
-            const double inf = std::numeric_limits<double>::infinity();
-            double low = inf;
+    const auto block_low = [&](double sign, int64_t i0, int64_t i1) {  // the points [i0, i1)' smallest limit
+        const double inf = std::numeric_limits<double>::infinity();
+        double low = inf;
 #pragma omp simd reduction(min : low)
-            for (int64_t i = i0; i < i1; ++i) {
-                const double x = sign * p[i], ax = std::fabs(x), t = (radius - std::copysign(1.0, x) * d[i]) / ax;
-                low = std::min(low, (held[i] == 0) & (ax != 0.0) ? t : inf);  // no branch: & not &&
-            }
-            m[0] = std::max(m[0], -low);
-        })[0];
-        return std::isfinite(top) ? std::max(-top, 0.0) : 0.0;
+        for (int64_t i = i0; i < i1; ++i) {
+            const double x = sign * p[i], ax = std::fabs(x), t = (radius - std::copysign(1.0, x) * d[i]) / ax;
+            low = std::min(low, (held[i] == 0) & (ax != 0.0) ? t : inf);  // no branch: & not &&
+        }
+        return low;
+    };
+    const auto edge_of = [](double top) { return std::isfinite(top) ? std::max(-top, 0.0) : 0.0; };
+    const auto to_edge = [&](double sign) {
+        return edge_of(grid.max_points<1>([&](int64_t i0, int64_t i1, double *m) {
+            m[0] = std::max(m[0], -block_low(sign, i0, i1));
+        })[0]);
     };
     const auto step_along = [&](double t, double sign) {  // d += t sign p
         grid.for_points([&](int64_t i0, int64_t i1) {
@@ -198,6 +198,9 @@ void ActiveSetNewton::advance(StepContext &c) {
                     t += p[i] * s[i];
                     u += r[i] * p[i];
                 }
+                // to_edge(1)'s part of this block while p and d are in the cache (d does not
+                // change before it is read: the same value as to_edge(1) after this pass)
+                block_top[i0 / kBlock] = -block_low(1.0, i0, i1);
             } else {
                 for (int64_t i = i0; i < i1; ++i) {
                     s[i] = free_part(-s[i], held[i]);
@@ -222,7 +225,9 @@ void ActiveSetNewton::advance(StepContext &c) {
         }
         const double a = rs / pkp;
         if (adhesive) {
-            const double t = to_edge(1.0);
+            double top = -std::numeric_limits<double>::infinity();  // to_edge(1), from the blocks' parts
+            for (const double x : block_top) top = std::max(top, x);
+            const double t = edge_of(top);
             if (a > t) {  // the next iterate would leave the region: to its edge
                 step_along(t, 1.0);
                 edge = true;

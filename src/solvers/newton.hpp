@@ -60,6 +60,7 @@ private:
     RealBuffer r_, p_, s_;  // the CG's residual, direction and preconditioned residual (or K p)
     RealBuffer e_;          // with adhesion exp(-(z - h)/rho) on the free points of the step's z
     ByteBuffer held_;
+    std::vector<double> block_top_;  // the trust region's limit per block of points (to_edge)
     StencilMultigrid mg_;
 };
 

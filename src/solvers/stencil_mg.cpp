@@ -345,7 +345,7 @@ void StencilMultigrid::follow(const unsigned char *held) {
     assembled_ = true;
 }
 
-void StencilMultigrid::apply_inverse(const double *b, double scale, double *x) {
+double StencilMultigrid::apply_inverse(const double *b, double scale, double *x, int64_t block) {
     Level &L = lv_[0];
     const int64_t mm = L.m * L.m;
     float *fb = L.b.data(), *fx0 = L.x.data();
@@ -357,7 +357,19 @@ void StencilMultigrid::apply_inverse(const double *b, double scale, double *x) {
     cycle(0, true);
     const float *fx = L.x.data();
     const double inv = 1.0 / scale;
-    for (int64_t p = 0; p < mm; p++) x[p] = inv * static_cast<double>(fx[p]);
+    double total = 0.0;
+    for (int64_t p0 = 0; p0 < mm; p0 += block) {
+        const int64_t p1 = p0 + block < mm ? p0 + block : mm;
+        double t = 0.0;
+        for (int64_t p = p0; p < p1; p++) {
+            x[p] = inv * static_cast<double>(fx[p]);
+            t += b[p] * x[p];
+        }
+        double acc = 0.0;  // a block's partial starts at 0 and takes its sum (parallel_sums)
+        acc += t;
+        total += acc;
+    }
+    return total;
 }
 
 }  // namespace gfmd

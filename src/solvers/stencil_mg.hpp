@@ -36,7 +36,10 @@ public:
     // The operators for the held set (held[p] = 1 where the wall holds point p).
     void follow(const unsigned char *held);
     // x = V(b) / scale on the free points, 0 on the held ones (b must be 0 there).  follow() first.
-    void apply_inverse(const double *b, double scale, double *x);
+    // Returns b.x, summed as a serial grid's sum_points sums (parallel.hpp): in blocks of `block`
+    // points, each in order from 0, the blocks' sums added in order -- the same bits, without a
+    // pass of its own over b and x.
+    double apply_inverse(const double *b, double scale, double *x, int64_t block);
 
 private:
     struct Level {
