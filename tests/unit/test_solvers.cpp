@@ -16,11 +16,16 @@
 //       accepted, and the energy U_el + sigma0 A mean(z), evaluated afresh, fell.
 //    A library without the undo leaves the surface moved; one that forgets the steepest direction
 //    takes the preconditioned one (M^-1 F, not F) and keeps its state at 0 or 1.
+// 3. The masked select of the Newton method and its multigrid cycle (src/solvers/free_part.hpp),
+//    which stands for `held ? 0 : v` so that their loops vectorize: at a free point every bit of
+//    v kept (-0, infinities, a NaN's payload, the smallest subnormal), at a held one +0, in float
+//    and double (check_free_part).
 #include <algorithm>
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <vector>
 
 #include "constants.hpp"
@@ -31,6 +36,7 @@
 #include "observables.hpp"
 #include "params.hpp"
 #include "solvers/cg.hpp"
+#include "solvers/free_part.hpp"
 #include "substrate.hpp"
 
 namespace {
@@ -180,11 +186,40 @@ void check_cg_safety_net() {
     expect(e1 < e0, "and the energy fell");
 }
 
+template <class T>
+bool same_bits_of(T a, T b) {
+    return std::memcmp(&a, &b, sizeof a) == 0;
+}
+
+template <class T>
+void check_free_part_of(const char *type) {
+    const T values[] = {T(1.5), T(-2.25), T(0), -T(0), std::numeric_limits<T>::infinity(),
+                        -std::numeric_limits<T>::infinity(), std::numeric_limits<T>::quiet_NaN(),
+                        -std::numeric_limits<T>::quiet_NaN(), std::numeric_limits<T>::denorm_min(),
+                        std::numeric_limits<T>::max(), std::numeric_limits<T>::lowest()};
+    bool kept = true, zeroed = true;
+    for (const T v : values) {
+        kept = kept && same_bits_of(gfmd::free_part(v, 0), v);
+        zeroed = zeroed && same_bits_of(gfmd::free_part(v, 1), T(0));
+    }
+    char what[96];
+    std::snprintf(what, sizeof what, "free_part<%s>: a free point's value bit for bit", type);
+    expect(kept, what);
+    std::snprintf(what, sizeof what, "free_part<%s>: +0 at a held point", type);
+    expect(zeroed, what);
+}
+
+void check_free_part() {
+    check_free_part_of<float>("float");
+    check_free_part_of<double>("double");
+}
+
 }  // namespace
 
 int main() {
     check_shortest_wave();
     check_cg_safety_net();
+    check_free_part();
     if (failures > 0) {
         std::printf("test_solvers: %d failure(s)\n", failures);
         return 1;
