@@ -199,7 +199,9 @@ void ActiveSetNewton::advance(StepContext &c) {
                     u += r[i] * p[i];
                 }
                 // to_edge(1)'s part of this block while p and d are in the cache (d does not
-                // change before it is read: the same value as to_edge(1) after this pass)
+                // change before it is read: the same value as to_edge(1) after this pass); the
+                // grid is serial (newton_grid_refusal), whose sums hand out blocks of kBlock
+                // points from multiples of kBlock
                 block_top[i0 / kBlock] = -block_low(1.0, i0, i1);
             } else {
                 for (int64_t i = i0; i < i1; ++i) {
