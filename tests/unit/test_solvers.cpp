@@ -20,6 +20,8 @@
 //    which stands for `held ? 0 : v` so that their loops vectorize: at a free point every bit of
 //    v kept (-0, infinities, a NaN's payload, the smallest subnormal), at a held one +0, in float
 //    and double (check_free_part).
+// 4. The cycle's inverse and the dot b.x it sums as it writes x: the grid's sum_points bits
+//    (check_inverse_dot).
 #include <algorithm>
 #include <cinttypes>
 #include <cmath>
@@ -37,6 +39,7 @@
 #include "params.hpp"
 #include "solvers/cg.hpp"
 #include "solvers/free_part.hpp"
+#include "solvers/stencil_mg.hpp"
 #include "substrate.hpp"
 
 namespace {
@@ -48,7 +51,10 @@ void expect(bool ok, const char *what) {
     if (!ok) ++failures;
 }
 
-bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+template <class T>
+bool same_bits(T a, T b) {
+    return std::memcmp(&a, &b, sizeof a) == 0;
+}
 
 // The energy the surface CG minimizes under pressure control: U_el + sigma0 A mean(z).
 double energy(const gfmd::FftGrid &grid, const gfmd::Params &p, const gfmd::ForceState &fs, const double *z) {
@@ -187,11 +193,6 @@ void check_cg_safety_net() {
 }
 
 template <class T>
-bool same_bits_of(T a, T b) {
-    return std::memcmp(&a, &b, sizeof a) == 0;
-}
-
-template <class T>
 void check_free_part_of(const char *type) {
     const T values[] = {T(1.5), T(-2.25), T(0), -T(0), std::numeric_limits<T>::infinity(),
                         -std::numeric_limits<T>::infinity(), std::numeric_limits<T>::quiet_NaN(),
@@ -199,8 +200,8 @@ void check_free_part_of(const char *type) {
                         std::numeric_limits<T>::max(), std::numeric_limits<T>::lowest()};
     bool kept = true, zeroed = true;
     for (const T v : values) {
-        kept = kept && same_bits_of(gfmd::free_part(v, 0), v);
-        zeroed = zeroed && same_bits_of(gfmd::free_part(v, 1), T(0));
+        kept = kept && same_bits(gfmd::free_part(v, 0), v);
+        zeroed = zeroed && same_bits(gfmd::free_part(v, 1), T(0));
     }
     char what[96];
     std::snprintf(what, sizeof what, "free_part<%s>: a free point's value bit for bit", type);
@@ -214,12 +215,44 @@ void check_free_part() {
     check_free_part_of<double>("double");
 }
 
+// The cycle's inverse returns b.x summed as it writes x (newton.cpp's preconditioner): the same bits
+// as the grid's own sum_points over the points, which the Newton method summed before.  256^2 on
+// two threads: four blocks of kBlock points, handed to two threads in either order; a held set of
+// a tenth of the points (b 0 there, as the method keeps it) and a right-hand side of mixed signs.
+void check_inverse_dot() {
+    using namespace gfmd;
+    const int64_t n = 256, points = n * n;
+    FftGrid grid(n, n, static_cast<double>(n), static_cast<double>(n), 2, GFMD_PLANNER_ESTIMATE);
+    std::vector<unsigned char> held(static_cast<std::size_t>(points));
+    std::vector<double> b(static_cast<std::size_t>(points)), x(b.size());
+    uint64_t state = 12345;
+    const auto next = [&] {  // a 64-bit LCG's top 53 bits in [0, 1)
+        state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+        return static_cast<double>(state >> 11) * 0x1.0p-53;
+    };
+    for (int64_t i = 0; i < points; ++i) {
+        held[i] = next() < 0.1 ? 1 : 0;
+        const double v = next() - 0.5;
+        b[i] = held[i] ? 0.0 : v;
+    }
+    StencilMultigrid mg(n);
+    mg.follow(held.data());
+    const double fused = mg.apply_inverse(b.data(), 3.0, x.data(), kBlock);
+    const double apart = grid.sum_points<1>([&](int64_t i0, int64_t i1, double *acc) {
+        double t = 0.0;
+        for (int64_t i = i0; i < i1; ++i) t += b[i] * x[i];
+        acc[0] += t;
+    })[0];
+    expect(fused > 0.0 && same_bits(fused, apart), "the cycle's b.x is sum_points' b.x bit for bit (4 blocks, 2 threads)");
+}
+
 }  // namespace
 
 int main() {
     check_shortest_wave();
     check_cg_safety_net();
     check_free_part();
+    check_inverse_dot();
     if (failures > 0) {
         std::printf("test_solvers: %d failure(s)\n", failures);
         return 1;
