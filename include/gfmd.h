@@ -238,8 +238,9 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * (not flat: a load continuing from the last equilibrium) on a sheet thinner than the grid
  * resolves, q_max w < 6 with q_max = pi sqrt(2)/a, takes GFMD_SOLVER_FIRE_MASS at Persson's
  * A/A0 < 0.15/(q_max w), GFMD_SOLVER_MASS_FIRE below twice that or 0.15, whichever is lower, and
- * GFMD_SOLVER_FIRE above (but GFMD_SOLVER_NEWTON at Persson's A/A0 < 0.15 from nx ny >= 1024^2 on,
- * on a grid it takes: since 2026-11-29) -- from nx ny >= 2048^2 on, and below that where the sheet is also thin
+ * GFMD_SOLVER_FIRE above (but GFMD_SOLVER_NEWTON at Persson's A/A0 < 0.45 from nx ny >= 1024^2 on,
+ * on a grid it takes: since 2026-11-29; the bound 0.15 until the Newton method's passes were
+ * vectorized) -- from nx ny >= 2048^2 on, and below that where the sheet is also thin
  * against the substrate's shortest wave, 2 sqrt(2) q_s w < 4.5 (q_s as below: = q_max w where
  * lambda_s = 4a), and its longest wave very soft, f(q_min w) >= 1e6, on a grid of at least 128^2
  * points -- and from nx ny >= 2048^2 on such
@@ -252,8 +253,8 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * GFMD_SOLVER_MASS_FIRE where f(q_min w) >= 2e4 at a load where Persson's A/A0 < 0.1,
  * GFMD_SOLVER_FIRE_MASS there instead if Persson's A/A0 < 0.02 or the sheet is thinner still,
  * q_t w < 4, and GFMD_SOLVER_FIRE otherwise (but where f(q_min w) >= 2e4 a load that starts from a
- * deformed surface takes GFMD_SOLVER_NEWTON at Persson's A/A0 < 0.15 from nx ny >= 1024^2 on, on a
- * grid it takes: since 2026-11-29, later);
+ * deformed surface takes GFMD_SOLVER_NEWTON at Persson's A/A0 < 0.45 from nx ny >= 1024^2 on, on a
+ * grid it takes: since 2026-11-29, later; the bound 0.15 before its passes were vectorized);
  * under displacement control without adhesion GFMD_SOLVER_CG where S sqrt(nx ny) <= 2e5 (a
  * half-space up to about 530^2, a bonded layer w = 64 a up to about 1700^2, w = 16 a up to about
  * 6900^2; a layer on a fluid foundation only where its longest wave is nearly a half-space's),

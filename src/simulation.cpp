@@ -447,7 +447,17 @@ constexpr double kAutoContinueThinFireArea = 0.15;
 // about even at 0.18 (0.96-1.05x) and lost at 0.27 and 0.4 (0.70-0.92x): bound 0.15, between.
 // The same at 1024^2 (W = 0.044, 0.088, 0.25: 1.2-1.8x up to 0.12, 0.81-0.92x from 0.18 on); at
 // 512^2 it won only up to 0.03-0.05 and by less (1.04-1.3x), lost beyond: from 1024^2 on.
-constexpr double kAutoNewtonArea = 0.15;
+// Its passes vectorized since (0.81x its seconds on a sticky sheet's load at 2048^2; docs/
+// performance.md "The Newton method's passes vectorized"), it won the higher loads too (2026-11-29,
+// gfmd_bench --sweep --from 0.18 --columns newton,auto --verbose, one thread, two runs side by
+// side as the study runs its bodies; log docs/performance_logs/newton_high_loads_2026-11-29.log;
+// docs/performance.md "The Newton method at the higher loads"): at 2048^2 on every one of the
+// loads at Persson's A/A0 = 0.18, 0.27, 0.4 on W = 0.044, 0.0625, 0.088, 0.25 without adhesion and
+// W = 0.0625, 0.088, 0.25 with the study's adhesion (1.08-2.03x the default's speed); at 1024^2 on
+// W = 0.044, 0.088, 0.25 with and without adhesion it won or tied every such load (1.00-1.36x
+// without adhesion, 1.20-2.14x with).  So from 1024^2 on, to 0.45: the last measured load, 0.4, and a margin below
+// what was not measured (at denser contacts FIRE's steps keep falling, the Newton method's not).
+constexpr double kAutoNewtonArea = 0.45;
 constexpr double kAutoNewtonPoints = 1024.0 * 1024.0;
 // With adhesion (CG minimizes the quadratic problem only), at most 100 mass-weighted FIRE steps
 // after each restart, then FIRE (GFMD_SOLVER_MASS_FIRE), where the longest wave is much softer
@@ -598,8 +608,9 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
         // s, faster on every load (1.08-2.57x), W = 0.125 to 0.05 236.55 s against 447.43 s; at
         // 1024^2 W = 0.088 and 0.177 76.14 s and 45.59 s against 107.73 s and 67.88 s, every load to
         // 0.12 but one won (0.95x), above 0.15 0.88-1.68x; at 512^2 to 0.05-0.08 (1.01-1.64x), mixed
-        // above (0.66-1.32x; the nine loads 1.11x and 1.19x): from 1024^2 on, to 0.15 as without
-        // adhesion (the wins above 0.15 were not measured on enough bodies to move the bound).
+        // above (0.66-1.32x; the nine loads 1.11x and 1.19x): from 1024^2 on, as without adhesion:
+        // to 0.15 then, to kAutoNewtonArea = 0.45 since its passes were vectorized (measured with
+        // adhesion too: 1.30-1.68x at 2048^2 and 1.20-2.14x at 1024^2 from 0.18 to 0.4).
         if (soft && !surface_flat() && newton_takes_load(area)) return GFMD_SOLVER_NEWTON;
         if (!soft || !(area < kAutoApproachArea)) return GFMD_SOLVER_FIRE;
         const bool mass = thickness < kAutoMassThinnerThickness || (thickness < kAutoMassThickness && area < kAutoMassArea);

@@ -620,9 +620,10 @@ static void automatic_choice_when_continuing(void **state) {
             TS_OK(s, gfmd_set_pressure(s, load));
             TS_OK(s, gfmd_get_solver(s, &solver));
             const int thin = q_max * cases[c].width < 6.0 && longest_wave(n, cases[c].width) >= 1e6 && n * n >= thin_from;
-            /* since 2026-11-29 from 1024^2 on a thin sheet's lower loads, Persson's A/A0 < 0.15,
-             * take the Newton method instead (test_newton has its bounds) */
-            const int newton = (thin || (n >= 2048 && q_max * cases[c].width < 6.0)) && n >= 1024 && cases[c].area < 0.15;
+            /* since 2026-11-29 from 1024^2 on a thin sheet's loads at Persson's A/A0 < 0.45 (0.15
+             * before the Newton method's passes were vectorized) take the Newton method instead
+             * (automatic_choice_newton has its bounds): the bounds above hold at 128^2 */
+            const int newton = (thin || (n >= 2048 && q_max * cases[c].width < 6.0)) && n >= 1024 && cases[c].area < 0.45;
             assert_int_equal(solver, newton ? GFMD_SOLVER_NEWTON : (n >= 2048 || thin) ? cases[c].at_2048 : GFMD_SOLVER_CG);
         }
         TS_OK(s, gfmd_set_pressure(s, 0.02));
@@ -633,9 +634,9 @@ static void automatic_choice_when_continuing(void **state) {
         /* A multilevel start: this grid starts from the coarse surface interpolated to it, a
          * deformed surface, and the default chooses for that start as for a load that continues.
          * A thin soft sheet (w = 0.2 a: f(q_min w) = 6.3e6 at 128^2) at Persson's A/A0 = 0.16
-         * (below its mass-weighted bound 0.169): mass-weighted FIRE on this grid below 2048^2 too
-         * (its flat start's CG before 2026-11-28; at 2048^2 unchanged, and its mass-weighted
-         * steps' frequency estimate costs seconds there: not repeated). */
+         * (below its mass-weighted bound 0.169): mass-weighted FIRE on this grid at 128^2 (its flat
+         * start's CG before 2026-11-28), the Newton method at 1024^2 (below its bound 0.45); at
+         * 2048^2 unchanged, not repeated. */
         int64_t steps = 0, coarse = 0;
         double thin_load = 0.0;
         if (n < 2048) {
@@ -648,7 +649,7 @@ static void automatic_choice_when_continuing(void **state) {
             assert_int_equal(gfmd_relax_multilevel(s, 0.0, 3, 2, &steps, &coarse), GFMD_ERR_NOT_CONVERGED);
             assert_int_equal(steps, 3);
             TS_OK(s, gfmd_get_solver(s, &solver));
-            assert_int_equal(solver, GFMD_SOLVER_FIRE_MASS);
+            assert_int_equal(solver, n >= 1024 ? GFMD_SOLVER_NEWTON : GFMD_SOLVER_FIRE_MASS);
             TS_OK(s, gfmd_reset(s));
         }
         /* A thick layer at a pressure well below full contact (pi E* 0.5/wavelength >= 0.003;
@@ -735,21 +736,23 @@ static int32_t thin_continuing_choice(int64_t n, double lambda_s, double width) 
 }
 
 /* Since 2026-11-29 a thin sheet's load from a deformed surface (here W = 0.088, w = 0.352 a, q_max w
- * = 1.6) takes the Newton method from 1024^2 on while Persson's A/A0 < 0.15, the thin sheets'
- * choice above that and on smaller grids, with adhesion too (docs/performance.md, "The active-set
- * Newton method in the library"; test_newton has the method itself). */
+ * = 1.6) takes the Newton method from 1024^2 on while Persson's A/A0 < 0.45 (0.15 until its passes
+ * were vectorized), the thin sheets' choice above that and on smaller grids, with adhesion too
+ * (docs/performance.md, "The Newton method at the higher loads"; test_newton has the method
+ * itself). */
 static void automatic_choice_newton(void **state) {
     (void)state;
-    if (ts_valgrind()) skip(); /* four 1024^2 handles: 20 s there; the rule is arithmetic, run natively and under the sanitizers */
+    if (ts_valgrind()) skip(); /* 1024^2 handles: 20 s there; the rule is arithmetic, run natively and under the sanitizers */
     assert_int_equal(thin_continuing_choice_at(1024, 4.0, 0.352, 0.01), GFMD_SOLVER_NEWTON);
-    assert_int_equal(thin_continuing_choice_at(1024, 4.0, 0.352, 0.14), GFMD_SOLVER_NEWTON);
-    assert_int_equal(thin_continuing_choice_at(1024, 4.0, 0.352, 0.16), GFMD_SOLVER_FIRE);
+    assert_int_equal(thin_continuing_choice_at(1024, 4.0, 0.352, 0.44), GFMD_SOLVER_NEWTON);
+    assert_int_equal(thin_continuing_choice_at(1024, 4.0, 0.352, 0.46), GFMD_SOLVER_FIRE);
     assert_int_equal(thin_continuing_choice_at(512, 4.0, 0.352, 0.01), GFMD_SOLVER_FIRE_MASS);
-    /* with the study's adhesion (since 2026-11-29, its trust region) the same bounds: from 1024^2 on
-     * below Persson's A/A0 = 0.15, mass-weighted FIRE (q_t w < 4) below 0.1 at 512^2, FIRE above */
+    assert_int_equal(thin_continuing_choice_at(512, 4.0, 0.352, 0.2), GFMD_SOLVER_FIRE);
+    /* with the study's adhesion (its trust region) the same bounds: from 1024^2 on below Persson's
+     * A/A0 = 0.45, mass-weighted FIRE (q_t w < 4) below 0.1 at 512^2, FIRE above */
     assert_int_equal(thin_continuing_choice_adhesive(1024, 4.0, 0.352, 0.01, 5e-4), GFMD_SOLVER_NEWTON);
-    assert_int_equal(thin_continuing_choice_adhesive(1024, 4.0, 0.352, 0.14, 5e-4), GFMD_SOLVER_NEWTON);
-    assert_int_equal(thin_continuing_choice_adhesive(1024, 4.0, 0.352, 0.16, 5e-4), GFMD_SOLVER_FIRE);
+    assert_int_equal(thin_continuing_choice_adhesive(1024, 4.0, 0.352, 0.44, 5e-4), GFMD_SOLVER_NEWTON);
+    assert_int_equal(thin_continuing_choice_adhesive(1024, 4.0, 0.352, 0.46, 5e-4), GFMD_SOLVER_FIRE);
     assert_int_equal(thin_continuing_choice_adhesive(512, 4.0, 0.352, 0.01, 5e-4), GFMD_SOLVER_FIRE_MASS);
 }
 
