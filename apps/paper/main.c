@@ -231,6 +231,16 @@ static gfmd_sim *make_surface(const options *o, double *u_max) {
     return surface;
 }
 
+typedef struct {
+    const gfmd_sim *surface;
+    const options *o;
+} persson_task;
+
+static void persson_curves(void *arg) {
+    const persson_task *t = arg;
+    write_persson_curves(t->surface, t->o);
+}
+
 int main(int argc, char **argv) {
     const options o = parse_options(argc, argv);
     print_plan(&o);
@@ -250,7 +260,9 @@ int main(int argc, char **argv) {
     double resumed_s = 0.0; /* and their own seconds, spent by the runs that relaxed them */
     for (int k = 0; o.resume && k < n; ++k)
         if (load_body(&o, &bodies[k])) ++resumed, resumed_s += sweep_seconds(&bodies[k].out);
-    run_bodies(surface, u_max, &o, bodies, n);
+    /* Persson's curves (Fig. 3) need no sweep: written on the core the last bodies leave idle */
+    persson_task task = {surface, &o};
+    run_bodies(surface, u_max, &o, bodies, n, o.n_widths > 0 ? persson_curves : NULL, &task);
     double first = 0.0;  /* the sweeps' first loads, each from a flat start or from coarser grids */
     double own = 0.0;    /* the bodies' own seconds (the "this body:" lines; read bodies' too) */
     long long steps = 0; /* every relaxation step of every sweep */
@@ -265,7 +277,6 @@ int main(int argc, char **argv) {
 
     if (o.n_widths > 0) { /* not with --adhesion-only */
         write_load_tables(sw, &o);
-        write_persson_curves(surface, sw, &o);
 
         /* kappa, and Fig. 5: the collapse factor c(W) */
         fit_kappa(&sw[0], &f);

@@ -105,12 +105,17 @@ void print_sweep_head(FILE *log, double W, int adhesive);
 void print_point(FILE *log, const point *p);
 void print_sweep_tail(FILE *log, const sweep *s, int levels);
 void print_sweep(FILE *log, const sweep *s, int adhesive, int levels);
+/* The first and the last load of a sweep on this body (Persson's loads for the sweep's areas). */
+void sweep_load_range(const gfmd_sim *body, double *first, double *last);
 /* resume.c: a body's checkpoint in o->dir, written when it is done; read: 1 if there is one (its
  * sweep and printed block filled in), 0 if not; another study's or a damaged file ends the run (2) */
 void save_body(const options *o, const body *b);
 int load_body(const options *o, body *b);
-/* bodies.c: the sweeps of n bodies, o->jobs at a time, their blocks printed in the given order */
-void run_bodies(const gfmd_sim *surface, double u_max, const options *o, body *bodies, int n);
+/* bodies.c: the sweeps of n bodies, o->jobs at a time, their blocks printed in the given order;
+ * idle(arg), if given, runs once on the first thread that finds no body left to start (with
+ * --jobs 1: after the sweeps), so that it fills a core the last bodies leave idle */
+void run_bodies(const gfmd_sim *surface, double u_max, const options *o, body *bodies, int n, void (*idle)(void *),
+                void *idle_arg);
 /* pulloff.c */
 void run_pulloff(const gfmd_sim *surface, double W, double u_max, int32_t solver, pulloff *out);
 /* fits.c */
@@ -121,7 +126,7 @@ double at_area(const sweep *c, double area, size_t field);
 /* tables.c */
 void write_pulloff_table(const pulloff *p, int n, const options *o);
 void write_load_tables(const sweep *sw, const options *o);
-void write_persson_curves(const gfmd_sim *surface, const sweep *sw, const options *o);
+void write_persson_curves(const gfmd_sim *surface, const options *o);
 void write_collapse_tables(const sweep *sw, const options *o, const fits *f);
 void write_theta_tables(const sweep *ad, const options *o);
 void write_fits(const options *o, const fits *f);

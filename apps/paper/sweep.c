@@ -1,6 +1,7 @@
 /* Load sweeps: one body on the study's surface, loads rising, each relaxation continuing from the
  * previous equilibrium. */
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 
 #include "study.h"
@@ -48,12 +49,24 @@ void print_sweep(FILE *log, const sweep *s, int adhesive, int levels) {
     print_sweep_tail(log, s, levels);
 }
 
+/* The shared surface is one handle: one thread at a time may use it (gfmd.h's thread contract),
+ * and the bodies' threads clone it as they start. */
+static pthread_mutex_t surface_lock = PTHREAD_MUTEX_INITIALIZER;
+
 gfmd_sim *make_body(const gfmd_sim *surface, double W, int32_t solver) {
     gfmd_sim *s = NULL;
-    CHECK(surface, gfmd_sim_clone(surface, &s));
+    pthread_mutex_lock(&surface_lock);
+    const int32_t st = gfmd_sim_clone(surface, &s);
+    pthread_mutex_unlock(&surface_lock);
+    CHECK(surface, st);
     CHECK(s, gfmd_set_solver(s, solver));
     if (W > 0.0) CHECK(s, gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, W * LAMBDA_S));
     return s;
+}
+
+void sweep_load_range(const gfmd_sim *body, double *first, double *last) {
+    CHECK(body, gfmd_persson_load(body, AREA_GRID[0], first));
+    CHECK(body, gfmd_persson_load(body, AREA_GRID[N_LOADS - 1], last));
 }
 
 /* Relax to the default tolerance: first (--approach) at most o->approach mass-weighted FIRE steps,

@@ -42,11 +42,13 @@ void write_load_tables(const sweep *sw, const options *o) {
 }
 
 /* Persson's curves, smooth, for the plots (same substrate, each body's G(q)). */
-void write_persson_curves(const gfmd_sim *surface, const sweep *sw, const options *o) {
+void write_persson_curves(const gfmd_sim *surface, const options *o) {
     FILE *fp = open_csv(o->dir, "persson_curves.csv", "body,W,sigma0_over_Eg,persson_area");
     for (int b = 0; b < o->n_widths; ++b) {
         gfmd_sim *s = make_body(surface, o->widths[b], o->solver);
-        const double lo = sw[b].p[0].sigma0 / 3.0, hi = sw[b].p[sw[b].n - 1].sigma0 * 3.0;
+        double first = 0.0, last = 0.0; /* the sweep's loads (sweep.c), a factor 3 beyond */
+        sweep_load_range(s, &first, &last);
+        const double lo = first / 3.0, hi = last * 3.0;
         for (int k = 0; k <= 60; ++k) {
             const double sig = lo * pow(hi / lo, k / 60.0);
             double a = 0.0;
