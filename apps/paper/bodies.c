@@ -33,7 +33,8 @@ typedef struct {
  * (docs/paper/full.md; only their order matters), interpolated in log W between the widths of
  * the same kind and held at the ends.  The old order (W ascending, the half-spaces last) left one
  * core idle for the last 70 s of that run; this one, replayed on the same seconds, about 6 s (a
- * derived schedule). */
+ * derived schedule).  A change that moves a body's cost much (another solver on its loads)
+ * should refresh these from a new run's "bodies done" lines. */
 static const double EST_W[] = {0.044, 0.0625, 0.088, 0.125, 0.177, 0.25, 0.5, 1.0, 2.0, 4.0, 10.0, 100.0};
 static const double EST_DRY[] = {175.61, 168.10, 139.14, 124.18, 98.02, 81.77, 157.39, 137.68, 121.70, 113.22, 136.93, 125.37};
 static const double EST_ADH_W[] = {0.0625, 0.088, 0.125, 0.177, 0.25, 0.5, 1.0, 4.0};
