@@ -73,6 +73,19 @@ foreach(jobs 1 2)
   message("--resume --jobs ${jobs}: 3 bodies read, 2 relaxed, the whole run's blocks and tables")
 endforeach()
 
+# every body read back, two at a time: no worker starts, and Persson's curves (written by the first
+# worker without a body, bodies.c) must still be written, as the whole run wrote them
+file(MAKE_DIRECTORY ${OUT}/all)
+foreach(b IN LISTS bodies)
+  file(COPY ${OUT}/whole/${b}.sweep DESTINATION ${OUT}/all)
+endforeach()
+run_study(all --jobs 2 --resume)
+if(NOT "${log_all}" MATCHES "\nresumed: 5 of 5 bodies read from ")
+  message(FATAL_ERROR "--resume with every checkpoint did not read all five:\n${log_all}${err_all}")
+endif()
+expect_same_tables(${OUT}/whole ${OUT}/all "--resume --jobs 2, every body read")
+message("--resume --jobs 2, every body read: the whole run's tables, Persson's curves among them")
+
 # refused, nothing written: another study's checkpoints, a damaged checkpoint
 function(expect_refused what dir pattern)
   file(GLOB before ${OUT}/${dir}/*)
