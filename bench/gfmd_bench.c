@@ -328,7 +328,7 @@ static double longest_wave_factor(int32_t layer, int n, double W, double nu) {
  * a thin plate). */
 static int loads_table(const double *sizes, int nsizes, const double *widths, int nwidths, const double *loads,
                        int nloads) {
-    const int32_t solvers[4] = {GFMD_SOLVER_FIRE, GFMD_SOLVER_FIRE_MASS, GFMD_SOLVER_MASS_FIRE, GFMD_SOLVER_CG};
+    const int32_t solvers[4] = {GFMD_SOLVER_FIRE, GFMD_SOLVER_MASS_WEIGHTED_FIRE, GFMD_SOLVER_APPROACH_THEN_FIRE, GFMD_SOLVER_CG};
     printf("gfmd %s: FIRE, mass-weighted FIRE, the approach then FIRE and CG from flat, layers on a fluid foundation "
            "(w = 4 W a), H = 0.8, lambda_s = 4a, lambda_r = n a/8, seed 2016, one thread, default tolerance\n",
            gfmd_version());
@@ -503,7 +503,7 @@ static int sweep_table(const double *sizes, int nsizes, const double *widths, in
                 fprintf(stderr, "gfmd_bench: --from %g and --to %g leave no load to compare\n", from, to);
                 return 1;
             }
-            const int32_t solvers[SWEEP_SOLVERS] = {GFMD_SOLVER_FIRE, GFMD_SOLVER_MASS_FIRE, GFMD_SOLVER_FIRE_MASS,
+            const int32_t solvers[SWEEP_SOLVERS] = {GFMD_SOLVER_FIRE, GFMD_SOLVER_APPROACH_THEN_FIRE, GFMD_SOLVER_MASS_WEIGHTED_FIRE,
                                                     GFMD_SOLVER_CG, GFMD_SOLVER_NEWTON, GFMD_SOLVER_AUTO};
             /* the default's choice at each load from this equilibrium (it depends on the body, the
              * load and whether the surface is flat, not on the solver's state, which every column
@@ -563,7 +563,7 @@ static int sweep_table(const double *sizes, int nsizes, const double *widths, in
  * 0.004), without and with adhesion (gamma0 = 5e-4, rho = a), before and after each lever the
  * library has: FIRE (before), mass-weighted FIRE, the multilevel start (--levels, 3 unless given;
  * the default solver on each grid), and the default solver (on thin sheets the preconditioned CG without
- * adhesion, the mass-weighted approach then FIRE, GFMD_SOLVER_MASS_FIRE, with).  Steps and seconds to the default tolerance, and
+ * adhesion, the mass-weighted approach then FIRE, GFMD_SOLVER_APPROACH_THEN_FIRE, with).  Steps and seconds to the default tolerance, and
  * (counted to the step, as in the main table: timed_relax_to) until A/A0 stays within 0.1 % of the
  * run's final value (the multilevel start: not counted, "-"); with --tol T every lever relaxes to
  * T instead and A/A0 is printed to 8 digits.  Mass-weighted FIRE is not run
@@ -604,7 +604,7 @@ static int first_load_table(const double *sizes, int nsizes, const double *width
                 for (int lever = 0; lever < 4; ++lever) {
                     if (!(levers & (1 << lever))) continue;
                     const int n = (int)sizes[a];
-                    const int32_t solver = lever == 0 ? GFMD_SOLVER_FIRE : lever == 1 ? GFMD_SOLVER_FIRE_MASS : GFMD_SOLVER_AUTO;
+                    const int32_t solver = lever == 0 ? GFMD_SOLVER_FIRE : lever == 1 ? GFMD_SOLVER_MASS_WEIGHTED_FIRE : GFMD_SOLVER_AUTO;
                     gfmd_sim *s = bench_body(n, widths[b], 0.01, solver);
                     int32_t st = gfmd_set_threads(s, threads);
                     if (st == GFMD_OK && adh) st = gfmd_set_adhesion(s, 5e-4, 1.0);
@@ -727,7 +727,7 @@ static int displacement_table(const double *sizes, int nsizes, const double *wid
                "seconds summed, A/A0 and mean pressure of the last)\n", o->positions, o->positions);
     printf("%5s %7s %4s %-9s | %8s %8s | %9s %14s\n", "n", "W", "adh", "solver", "steps", "s", "A/A0", "mean pressure");
     enum { kSolvers = 4 };
-    const int32_t solvers[kSolvers] = {GFMD_SOLVER_FIRE, GFMD_SOLVER_FIRE_MASS, GFMD_SOLVER_CG, GFMD_SOLVER_AUTO};
+    const int32_t solvers[kSolvers] = {GFMD_SOLVER_FIRE, GFMD_SOLVER_MASS_WEIGHTED_FIRE, GFMD_SOLVER_CG, GFMD_SOLVER_AUTO};
     int bad = 0;
     for (int a = 0; a < nsizes; ++a)
         for (int b = 0; b < nwidths; ++b)
@@ -879,8 +879,8 @@ static int choices_table(const double *sizes, int nsizes, const double *widths, 
  * them would have cost).  Without adhesion (one equilibrium) the runs must agree (A/A0 within
  * 0.1 % or two points, the mean pressure within 1e-4 of its scale): the program fails otherwise. */
 enum { RANDOM_SOLVERS = 5 };
-static const int32_t random_solvers[RANDOM_SOLVERS] = {GFMD_SOLVER_AUTO, GFMD_SOLVER_FIRE, GFMD_SOLVER_FIRE_MASS,
-                                                       GFMD_SOLVER_MASS_FIRE, GFMD_SOLVER_CG};
+static const int32_t random_solvers[RANDOM_SOLVERS] = {GFMD_SOLVER_AUTO, GFMD_SOLVER_FIRE, GFMD_SOLVER_MASS_WEIGHTED_FIRE,
+                                                       GFMD_SOLVER_APPROACH_THEN_FIRE, GFMD_SOLVER_CG};
 
 /* splitmix64: the same bodies from a seed on every machine */
 static double random_unit(uint64_t *state) {
@@ -1139,9 +1139,9 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--sigma0") && i + 1 < argc) sigma0 = atof(argv[++i]), sigma0_given = 1;
         else if (!strcmp(argv[i], "--solver") && i + 1 < argc) {
             ++i;
-            solver = !strcmp(argv[i], "mass") ? GFMD_SOLVER_FIRE_MASS : !strcmp(argv[i], "verlet") ? GFMD_SOLVER_VERLET
+            solver = !strcmp(argv[i], "mass") ? GFMD_SOLVER_MASS_WEIGHTED_FIRE : !strcmp(argv[i], "verlet") ? GFMD_SOLVER_VERLET
                    : !strcmp(argv[i], "fire") ? GFMD_SOLVER_FIRE : !strcmp(argv[i], "cg") ? GFMD_SOLVER_CG
-                   : !strcmp(argv[i], "auto") ? GFMD_SOLVER_AUTO : !strcmp(argv[i], "mass+fire") ? GFMD_SOLVER_MASS_FIRE : -1;
+                   : !strcmp(argv[i], "auto") ? GFMD_SOLVER_AUTO : !strcmp(argv[i], "mass+fire") ? GFMD_SOLVER_APPROACH_THEN_FIRE : -1;
         } else
             solver = -1;
         if (solver < 0 || !(sigma0 > 0.0) || levels < 1 || first_tol < 0.0 || levers < 0 || columns < 0 || random_bodies < 0 || !(below >= 0.0) || gap_rms < 0.0 || positions < 0) {
@@ -1283,11 +1283,11 @@ int main(int argc, char **argv) {
             const double cg_pairs = (W > 0 && layer == GFMD_GREEN_LAYER_FLUID) ? 2.5 : 7.0 / 3.0;
             /* the approach then FIRE: its first (at most 100, gfmd_set_solver()) steps take two pairs */
             const double approach_pairs = 1.0 + (double)(steps < 100 ? steps : 100) / (double)(steps > 0 ? steps : 1);
-            const double t_fft = t_pair * (g.active == GFMD_SOLVER_FIRE_MASS ? 2.0
-                                           : g.active == GFMD_SOLVER_MASS_FIRE ? approach_pairs
+            const double t_fft = t_pair * (g.active == GFMD_SOLVER_MASS_WEIGHTED_FIRE ? 2.0
+                                           : g.active == GFMD_SOLVER_APPROACH_THEN_FIRE ? approach_pairs
                                            : g.active == GFMD_SOLVER_CG ? cg_pairs : 1.0);
             char other[32] = "-";
-            if (alt && (g.active == GFMD_SOLVER_CG || g.active == GFMD_SOLVER_FIRE || g.active == GFMD_SOLVER_MASS_FIRE)) {
+            if (alt && (g.active == GFMD_SOLVER_CG || g.active == GFMD_SOLVER_FIRE || g.active == GFMD_SOLVER_APPROACH_THEN_FIRE)) {
                 const gfmd_run o = timed_relax(s, g.active == GFMD_SOLVER_FIRE ? GFMD_SOLVER_CG : GFMD_SOLVER_FIRE, sigma0,
                                                area_conv);
                 snprintf(other, sizeof other, "%s %.3g", solver_name(o.active), o.seconds_acc);

@@ -185,7 +185,7 @@ GFMD_API int32_t gfmd_set_pressure(gfmd_sim *s, double sigma0);
  * reaching the substrate stopped) and every step keeps it.  A smaller d presses harder.
  * GFMD_ERR_INVALID_ARG if d is not finite or below the substrate's mean height (a body with z >= h
  * cannot have a smaller mean).  gfmd_set_pressure() returns to pressure control.  Works with
- * every solver (GFMD_SOLVER_CG without adhesion); GFMD_SOLVER_FIRE_MASS then holds the mean in
+ * every solver (GFMD_SOLVER_CG without adhesion); GFMD_SOLVER_MASS_WEIGHTED_FIRE then holds the mean in
  * its preconditioned step, one FFT pair more per step (see gfmd_set_solver()).  Checkpoints keep
  * the mode.
  */
@@ -226,106 +226,61 @@ GFMD_API int32_t gfmd_set_timestep(gfmd_sim *s, double dt);
 GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
 
 /**
- * Method used by gfmd_step() and gfmd_relax(): GFMD_SOLVER_AUTO (the default: for a non-adhesive
- * body under pressure control GFMD_SOLVER_CG on a half-space or bonded layer whose long waves are
- * not too soft, S sqrt(nx ny) <= 4e4 on a half-space (up to about 240^2) and <= 8e4 on a bonded
- * layer (w = 8 a up to about 5400^2, w = 32 a up to about 1300^2 at nu = 0.3), with
- * S = k_halfspace(q_max)/k_min, at loads where S times Persson's A/A0 < 14 (dense contacts take
- * FIRE: the 128^2 half-space above A/A0 0.155, a bonded layer w = 32 a above 0.24; w = 8 a keeps
- * CG up to 0.97), and on a half-space or bonded layer of any size at a low load, where Persson's
- * A/A0 times sqrt(nx ny) < 20 (few contacts: A/A0 < 0.01 at 2048^2) -- and on every layer on a
- * fluid foundation (preconditioned there), except that a load that starts from a deformed surface
- * (not flat: a load continuing from the last equilibrium) on a sheet thinner than the grid
- * resolves, q_max w < 6 with q_max = pi sqrt(2)/a, takes GFMD_SOLVER_FIRE_MASS at Persson's
- * A/A0 < 0.15/(q_max w), GFMD_SOLVER_MASS_FIRE below twice that or 0.15, whichever is lower, and
- * GFMD_SOLVER_FIRE above (but GFMD_SOLVER_NEWTON at Persson's A/A0 < 0.45 from nx ny >= 1024^2 on,
- * on a grid it takes: since 2026-11-29; the bound 0.15 until the Newton method's passes were
- * vectorized) -- from nx ny >= 2048^2 on, and below that where the sheet is also thin
- * against the substrate's shortest wave, 2 sqrt(2) q_s w < 4.5 (q_s as below: = q_max w where
- * lambda_s = 4a), and its longest wave very soft, f(q_min w) >= 1e6, on a grid of at least 128^2
- * points -- and from nx ny >= 2048^2 on such
- * a load on a thicker layer takes GFMD_SOLVER_FIRE at a load where Persson's A/A0 >= 0.04 (CG
- * below), unless the layer is of middle width, f(q_min w) >= 1e4 (then CG); with adhesion (under
- * pressure control) GFMD_SOLVER_CG on a half-space, a bonded layer and a layer on a fluid
- * foundation no thinner than the grid resolves, q_t w >= 6, q_t = min(q_max, 2 sqrt(2) q_s) with
- * q_s the substrate's shortest wave (the |q| below which all but 1e-4 of its slope variance lies:
- * q_t = q_max where lambda_s <= 4a; W >= 0.34 with a = lambda_s/4), and on the thinner sheets
- * GFMD_SOLVER_MASS_FIRE where f(q_min w) >= 2e4 at a load where Persson's A/A0 < 0.1,
- * GFMD_SOLVER_FIRE_MASS there instead if Persson's A/A0 < 0.02 or the sheet is thinner still,
- * q_t w < 4, and GFMD_SOLVER_FIRE otherwise (but where f(q_min w) >= 2e4 a load that starts from a
- * deformed surface takes GFMD_SOLVER_NEWTON at Persson's A/A0 < 0.45 from nx ny >= 1024^2 on, on a
- * grid it takes: since 2026-11-29, later; the bound 0.15 before its passes were vectorized);
- * under displacement control without adhesion GFMD_SOLVER_CG where S sqrt(nx ny) <= 2e5 (a
- * half-space up to about 530^2, a bonded layer w = 64 a up to about 1700^2, w = 16 a up to about
- * 6900^2; a layer on a fluid foundation only where its longest wave is nearly a half-space's),
- * beyond that and with adhesion GFMD_SOLVER_FIRE_MASS on a layer on a fluid foundation with
- * f(q_min w) >= 2 (w < 74 a at 256^2) -- but GFMD_SOLVER_FIRE where a fraction >= 0.35 of the
- * substrate lies above the prescribed mean position, or >= 0.25 if f(q_min w) < 1e4 -- and
- * GFMD_SOLVER_FIRE on other bodies; re-chosen whenever the body, the substrate, the
- * adhesion, the load or the load control changes, at gfmd_reset() and on each grid of
- * gfmd_relax_multilevel() after its start is interpolated (a deformed surface), from the state
- * then; the rule and its measurements are in docs/performance.md;
- * gfmd_get_solver() tells the choice),
- * GFMD_SOLVER_CG (constrained conjugate gradients: under pressure control on a half-space or a
- * bonded layer Polonsky & Keer's iteration on the contact pressure, two FFT pairs an iteration
- * and the convergence test (one pair more) every third iteration since the solver's restart, so
- * gfmd_relax() stops at most two iterations after the first that meets tol, and a call that
- * reaches max_steps between two tests returns GFMD_ERR_NOT_CONVERGED even if the residual
- * already meets tol (the next call stops at the next test); on a layer on a fluid foundation
- * under pressure control projected CG on the surface preconditioned by the inverse mode
- * stiffness (floored at the contact spacing's), about 2.5 pairs, and under displacement control
- * without the preconditioner, about 1.5 pairs, both tested every iteration; 16 bytes per point more, GFMD_ERR_NOMEM and nothing changed if they
- * cannot be had; with adhesion under pressure control on every body the surface CG preconditioned
- * as on a layer on a fluid foundation (on a half-space its floor at the contact spacing only),
- * with a line search along the adhesive energy and each step checked against it (a few passes over
- * the points more), and not under displacement control -- GFMD_ERR_STATE, nothing changed, for a
- * call that would bring adhesion, CG and displacement control together (gfmd_set_solver(),
- * gfmd_set_adhesion(), gfmd_set_mean_displacement()); one "step" of
- * gfmd_step()/gfmd_relax() is one iteration; the same convergence test as the others),
- * GFMD_SOLVER_FIRE (adapts its step up to
- * 1.3 times the time step and needs no damping), GFMD_SOLVER_FIRE_MASS (FIRE with each Fourier mode's inertia
- * taken from its stiffness, floored at the stiffness of the current contact spacing; points the wall
- * holds are kept still; its own time step, set for the highest frequency of that masked dynamics,
- * so gfmd_set_timestep() does not apply) or
- * GFMD_SOLVER_VERLET (damped dynamics).  All share the forces, the wall and the convergence
- * criterion, and reach the same equilibrium.  A step of GFMD_SOLVER_FIRE_MASS costs two FFT pairs
- * instead of one (under displacement control a third on steps where the set of points the wall holds
- * changed, and it writes 9 bytes per point more)
- * and it needs one byte per point more (GFMD_ERR_NOMEM, nothing changed, if that
- * cannot be had); it pays on thin sheets and at low loads, where it needs 3-7x fewer steps than FIRE
- * (test_cg_reference)
- * (docs/performance.md), GFMD_SOLVER_MASS_FIRE (after every restart of the solver -- a new load,
- * adhesion, body, gfmd_restart_solver() ... -- at most 100 steps of GFMD_SOLVER_FIRE_MASS, then
- * GFMD_SOLVER_FIRE from where they got, the motion kept (the velocities times the approach's last
- * step over FIRE's first, so that they carry each point as far per step as in the approach's last;
- * the result does not depend on the units: docs/guarantees.md): mass weighting nears a soft body's
- * equilibrium fast and then converges slowly, FIRE finishes fast; the approach steps at the time
- * step of the unmasked modes, longer than GFMD_SOLVER_FIRE_MASS's (measured faster for 100 steps);
- * the count of approach steps is part of the solver's state, so chunks and checkpoints follow one
- * call; like GFMD_SOLVER_FIRE_MASS it needs one byte per point), or GFMD_SOLVER_NEWTON (the
- * active-set Newton method for thin sheets: the energy without adhesion is quadratic, so a step
- * takes the points the wall holds as fixed and solves for the others by CG preconditioned with a
- * multigrid cycle of the thin-plate stencil c0 L^2 (L the 5-point Laplacian, c0 fitted to the
- * sheet's stiffness) on the free points, then moves to max(h, z + alpha d) with alpha halved
- * from 1 until the energy falls enough; one "step" of gfmd_step()/gfmd_relax() is one Newton step,
- * about 10-20 FFT pairs and multigrid cycles (but on a flat surface, which the wall holds at its
- * highest point only, the first steps' CG may take hundreds of iterations, up to its cap of 500:
- * start it from a deformed surface or coarser grids, gfmd_relax_multilevel(), as the default
- * does); with adhesion (since 2026-11-29) the CG's model adds the adhesive law's curvature, which
- * is negative, and stays within a trust region, |d| <= R at every free point (Steihaug's CG:
- * stopped at the region's edge, and along a direction of negative curvature taken to that edge),
- * R = rho after a restart, doubled after a full step to the edge and set to the step taken after
- * a shortened one, never below 0.3 rho; every step is checked against the energy, so it never
- * rises by more than the smallest step's (alpha = 2^-20), and the non-convex energy's minimum it
- * ends in may differ from another solver's; R is the solver's state, so chunks and checkpoints
- * follow one call, and results do not depend on the thread count (its cycle runs on one thread).
- * It takes a layer on a fluid foundation under pressure control on one process, on a square grid
- * of square cells whose side is a power of 2 >= 32 --
- * GFMD_ERR_STATE, nothing changed, for a call that would set it on another body or grid or bring
- * its body displacement control or another Green's function; gfmd_relax_multilevel()
- * takes the default's choice on coarse grids below 32^2.  About 80 bytes per point more
- * (GFMD_ERR_NOMEM, nothing changed, if they cannot be had).  Correct on any such layer, fast
- * where the stencil stands for the stiffness, q_max w < 6 (docs/performance.md)).
+ * Method used by gfmd_step() and gfmd_relax().  All share the forces, the wall and the convergence
+ * criterion and reach the same equilibrium (with adhesion, a minimum of a non-convex energy that
+ * may differ between solvers).  The solver restarts at every change listed under *Continuing a
+ * trajectory*; its state is in checkpoints.
+ *
+ * - GFMD_SOLVER_AUTO (the default): the fastest of the others for the problem, from a few features
+ *   of it -- the body, adhesion, the load control, the grid's points, the long waves' softness
+ *   S = k_halfspace(q_max)/k_min and f(q_min w), the layer's width against the grid and the
+ *   roughness, Persson's A/A0 at the load, whether the surface is still flat (a first load) and
+ *   the substrate's overlap with a prescribed mean position.  In short: the CG on half-spaces,
+ *   bonded layers and layers on a fluid foundation wherever it is fastest (most problems below
+ *   2048^2, first loads, low loads, and with adhesion all but the thinnest sheets); FIRE at dense
+ *   contacts; the Newton method on thin sheets' continuing loads from 1024^2 on; mass-weighted
+ *   FIRE or the approach then FIRE on thin sheets at low loads and on soft layers under
+ *   displacement control.  The rule is one table of thresholds (src/solver_choice.hpp, each with
+ *   its reason; docs/decisions.md has the measurements); it is applied again whenever the body,
+ *   the substrate, the adhesion, the load or its control changes, at gfmd_reset() and on each grid
+ *   of gfmd_relax_multilevel().  gfmd_get_solver() tells the choice.
+ * - GFMD_SOLVER_CG: constrained conjugate gradients; one "step" is one iteration.  Under pressure
+ *   control on a half-space or bonded layer without adhesion Polonsky & Keer's iteration on the
+ *   contact pressure (two FFT pairs an iteration, the convergence test, one pair more, every
+ *   third iteration since the restart: gfmd_relax() stops at most two iterations after the first
+ *   that meets tol, and a call that reaches max_steps between two tests returns
+ *   GFMD_ERR_NOT_CONVERGED); otherwise a projected CG on the surface, tested every iteration,
+ *   preconditioned by the inverse mode stiffness (floored at the contact spacing's) under pressure
+ *   control, with a line search along the adhesive energy and every step checked against it when
+ *   adhesive.  It takes adhesion under pressure control only: GFMD_ERR_STATE, nothing changed, for
+ *   a call that would bring adhesion, CG and displacement control together.  16 bytes per point.
+ * - GFMD_SOLVER_FIRE: FIRE, its step adapted up to 1.3 times the time step, no damping needed.
+ * - GFMD_SOLVER_MASS_WEIGHTED_FIRE (deprecated name GFMD_SOLVER_FIRE_MASS): FIRE with each Fourier
+ *   mode's inertia taken from its stiffness, floored at the stiffness of the contact spacing, the
+ *   points the wall holds kept still, its own time step (gfmd_set_timestep() does not apply).  Two
+ *   FFT pairs a step (a third under displacement control when the held set changed); one byte per
+ *   point.  Fast on thin sheets and at low loads.
+ * - GFMD_SOLVER_APPROACH_THEN_FIRE (deprecated name GFMD_SOLVER_MASS_FIRE): after every restart at
+ *   most 100 mass-weighted steps (at the unmasked modes' time step), then GFMD_SOLVER_FIRE from
+ *   where they got, the motion kept (rescaled so that the results do not depend on the units).
+ *   The count of approach steps is solver state.  One byte per point.
+ * - GFMD_SOLVER_NEWTON: the active-set Newton method for thin sheets on a fluid foundation.  A step
+ *   holds the points the wall holds and solves for the others by CG preconditioned with a
+ *   multigrid cycle of the thin-plate stencil, then moves to max(h, z + alpha d), alpha halved
+ *   until the energy falls enough; one "step" is one Newton step (about 10-20 FFT pairs and
+ *   cycles; a flat start's first steps may take up to 500 inner iterations: start from a deformed
+ *   surface or coarser grids, as the default does).  With adhesion its CG adds the adhesive law's
+ *   curvature within a trust region |d| <= R (Steihaug), R = rho after a restart, doubled after a
+ *   full step to its edge, set to the step taken after a shortened one, never below 0.3 rho; R is
+ *   solver state.  Results do not depend on the thread count.  It takes a layer on a fluid
+ *   foundation under pressure control on one process, on a square grid of square cells whose side
+ *   is a power of 2 >= 32: GFMD_ERR_STATE, nothing changed, otherwise (and for a later call that
+ *   would bring it another body or displacement control); gfmd_relax_multilevel() takes the
+ *   default's choice on its grids below 32^2.  About 80 bytes per point.  Fast where the stencil
+ *   stands for the stiffness, q_max w < 6.
+ * - GFMD_SOLVER_VERLET: the seed paper's damped dynamics (gfmd_set_timestep(), gfmd_set_damping()).
+ *
+ * A solver's extra memory that cannot be had gives GFMD_ERR_NOMEM with nothing changed.
  */
 GFMD_API int32_t gfmd_set_solver(gfmd_sim *s, int32_t solver);
 
@@ -399,16 +354,11 @@ GFMD_API int32_t gfmd_relax(gfmd_sim *s, double tol, int64_t max_steps, int64_t 
  * surface filtered to each grid by dropping the modes it cannot hold; the solver the handle's
  * setting gives on that grid), each coarse surface interpolated to the next finer grid (zero-padded
  * spectrum, then lifted onto the substrate where it would penetrate), and relaxed there in turn
- * (GFMD_SOLVER_AUTO chooses again for that deformed start, as for a load that continues: a thin
- * sheet without adhesion FIRE, mass-weighted FIRE or the approach then FIRE, and from 2048^2 on
- * a thick layer on a fluid foundation FIRE at a higher load, not the CG of a flat start; a failed
- * call restores the solver of its start), to
- * the same tol and at most @p max_steps steps per grid; then this grid as gfmd_relax() does.  The
- * long waves relax where steps are cheap; measured, that saves 14-24 % of a thin sheet's time
- * from flat with FIRE and 3 % with mass-weighted FIRE (docs/performance.md): the steps a soft
- * sheet needs are mostly those of its contact-scale modes.  levels = 1 is gfmd_relax().  An
- * adhesive body with several equilibria may end in another one than from flat (a thin adhesive
- * sheet at 2048^2: docs/performance.md).
+ * (GFMD_SOLVER_AUTO chooses again for that deformed start, as for a load that continues; a failed
+ * call restores the solver of its start), to the same tol and at most @p max_steps steps per grid;
+ * then this grid as gfmd_relax() does.  The long waves relax where steps are cheap; whether that
+ * pays depends on the body (docs/performance.md).  levels = 1 is gfmd_relax().  An adhesive body
+ * with several equilibria may end in another one than from flat.
  * @p steps_taken (may be NULL) receives this grid's steps, @p coarse_steps (may be NULL) those of
  * all coarser grids together.  GFMD_ERR_INVALID_ARG, nothing
  * changed, unless levels = 1 (on any grid) or levels > 1 and nx, ny are divisible by 2^(levels-1)

@@ -39,7 +39,7 @@ ForceState evaluate_forces(const FftGrid &grid, const Params &p, const Body &bod
             return f[i] - (adhesive ? adh_coef * std::exp(-(z[i] - h[i]) * inv_rho) : 0.0);
         };
         // in lanes, with the completion's exponential (the C library's scalar exp per point was a
-        // fifth of an adhesive step under displacement control at 1024^2, commit 76a345c)
+        // fifth of an adhesive step under displacement control at 1024^2)
         const auto free_sums = grid.sum_points<2>([&](int64_t i0, int64_t i1, double *acc) {
             kernels::use().free_stress_sums(z + i0, h + i0, f + i0, adh_coef, inv_rho, i1 - i0, acc);
         });

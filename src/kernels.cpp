@@ -293,7 +293,7 @@ void fire_update(const FireUpdate &u, double *__restrict z, double *__restrict v
 }
 
 // In quads with selects: GCC left the loop of bools stored as bytes scalar, with a branch on the
-// contact that mispredicts at scattered contact points (commit 2bbf3ed: its share of a step).
+// contact that mispredicts at scattered contact points.
 // Pads of the last octet are not stored.
 void mark_held(const double *z, const double *h, double *f, unsigned char *marks, int64_t n) {
     over_octets(n, [&](auto full, int64_t i, int64_t m, int) {

@@ -38,7 +38,7 @@ struct FireUpdate {
     double dt, keep, mix, back;
     bool uphill;
 };
-// Mass-weighted FIRE's update from the preconditioned acceleration a (FireMass::advance()).
+// Mass-weighted FIRE's update from the preconditioned acceleration a (MassWeightedFire::advance()).
 struct MassUpdate {
     double dt, keep, mix_dt, back;
 };

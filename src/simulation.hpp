@@ -14,6 +14,7 @@
 #include "forces.hpp"
 #include "green.hpp"
 #include "params.hpp"
+#include "solver_choice.hpp"
 #include "solvers/solver.hpp"
 #include "substrate.hpp"
 
@@ -103,14 +104,12 @@ private:
     void change_body(const char *what, const Params &p);
     void change_substrate(RealBuffer &&h);
     void apply_control();  // under displacement control: z projected onto mean(z) = mean_z
+    // GFMD_SOLVER_AUTO's choice for the current problem (solver_choice.hpp), or the one requested
     int32_t resolve_solver(int32_t requested) const;
+    ChoiceFeatures choice_features() const;
     bool surface_flat() const;  // z the same everywhere (a reset or new substrate; no load carried yet)
-    // the Newton method's bounds on a thin sheet's load (from 1024^2 on, Persson's A/A0 < 0.15, a grid
-    // it takes), with and without adhesion (resolve_solver)
-    bool newton_takes_load(double persson_area) const;
     double overlap_fraction() const;  // the points whose substrate lies above the prescribed mean position
     double roughness_thickness() const;  // 2 sqrt(2) q_s w: the width against the substrate's shortest wave
-    double adhesive_thickness() const;   // min(q_max w, roughness_thickness()) (simulation.cpp)
     // under GFMD_SOLVER_AUTO: the solver for the current problem; returns the one it replaced
     // (null if kept), for a caller that must restore it
     std::unique_ptr<Solver> follow_auto_choice();

@@ -127,7 +127,7 @@ static options parse_options(int argc, char **argv) {
             ++i;
             if (!strcmp(argv[i], "auto")) o.solver = GFMD_SOLVER_AUTO;
             else if (!strcmp(argv[i], "fire")) o.solver = GFMD_SOLVER_FIRE;
-            else if (!strcmp(argv[i], "mass")) o.solver = GFMD_SOLVER_FIRE_MASS;
+            else if (!strcmp(argv[i], "mass")) o.solver = GFMD_SOLVER_MASS_WEIGHTED_FIRE;
             else if (!strcmp(argv[i], "cg")) o.solver = GFMD_SOLVER_CG;
             else usage(argv[0]);
         }
@@ -209,7 +209,7 @@ static void print_plan(const options *o) {
     if (o->approach > 0) printf("every other load: up to %ld mass-weighted steps first (--approach %ld)\n", o->approach, o->approach);
     else printf("every other load: no approach steps (--approach 0)\n");
     static const char *const names[] = {[GFMD_SOLVER_AUTO] = "auto", [GFMD_SOLVER_FIRE] = "fire",
-                                        [GFMD_SOLVER_FIRE_MASS] = "mass", [GFMD_SOLVER_CG] = "cg"};
+                                        [GFMD_SOLVER_MASS_WEIGHTED_FIRE] = "mass", [GFMD_SOLVER_CG] = "cg"};
     const int k = (int)o->solver; /* one of the four --solver sets */
     printf("solver: %s\n", k >= 0 && k < COUNT(names) && names[k] ? names[k] : "?");
     printf("plan only (--plan): nothing relaxed, nothing written\n");

@@ -74,7 +74,7 @@ void sweep_load_range(const gfmd_sim *body, double *first, double *last) {
 static void relax_with_approach(gfmd_sim *s, int32_t solver, const options *o, int64_t *steps) {
     int64_t first = 0, rest = 0;
     if (o->approach > 0) {
-        CHECK(s, gfmd_set_solver(s, GFMD_SOLVER_FIRE_MASS));
+        CHECK(s, gfmd_set_solver(s, GFMD_SOLVER_MASS_WEIGHTED_FIRE));
         const int32_t st = gfmd_relax(s, 0.0, o->approach, &first);
         if (st != GFMD_ERR_NOT_CONVERGED) CHECK(s, st);
         CHECK(s, gfmd_set_solver(s, solver));

@@ -492,8 +492,8 @@ contains
   end subroutine sim_set_damping
 
   !> GFMD_SOLVER_AUTO (default: CG, FIRE or the mass-weighted approach then FIRE, chosen from the
-  !> body), GFMD_SOLVER_FIRE, GFMD_SOLVER_CG (adhesive only under pressure control), GFMD_SOLVER_FIRE_MASS (mass-weighted
-  !> FIRE), GFMD_SOLVER_MASS_FIRE (at most 100 mass-weighted steps, then FIRE), GFMD_SOLVER_NEWTON
+  !> body), GFMD_SOLVER_FIRE, GFMD_SOLVER_CG (adhesive only under pressure control), GFMD_SOLVER_MASS_WEIGHTED_FIRE (mass-weighted
+  !> FIRE), GFMD_SOLVER_APPROACH_THEN_FIRE (at most 100 mass-weighted steps, then FIRE), GFMD_SOLVER_NEWTON
   !> (the active-set Newton method: thin sheets on a fluid foundation, with adhesion in a trust
   !> region, square power-of-2 grids) or GFMD_SOLVER_VERLET.
   subroutine sim_set_solver(self, solver, stat, errmsg)

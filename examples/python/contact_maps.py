@@ -30,7 +30,7 @@ def body(n, width, seed):
     s.generate_selfaffine(0.8, n / 2, LAMBDA_S, 1.0, seed=seed)
     if width > 0:
         s.set_green(gfmd.LAYER_FLUID, width)
-        s.set_solver(gfmd.FIRE_MASS)  # mass weighting: thin sheets relax several times faster
+        s.set_solver(gfmd.MASS_WEIGHTED_FIRE)  # mass weighting: thin sheets relax several times faster
     return s
 
 

@@ -26,6 +26,8 @@ def read():
             values[parts[1]] = int(parts[2])
             if enum == "gfmd_status_code":
                 statuses[int(parts[2])] = parts[3]
+        elif parts[0] == "alias":
+            values[parts[1]] = values[parts[2]]
         elif parts[0] == "real":
             values[parts[1]] = float(parts[2])
         else:

@@ -31,7 +31,8 @@ def test_trajectories_are_those_of_c():
     for line in (ROOT / "tests" / "trajectory" / "reference.txt").read_text().splitlines():
         solver, body, stage, *fields = line.split()
         expected[(solver, body, stage)] = dict(f.split("=") for f in fields)
-    solvers = {"verlet": gfmd.VERLET, "fire": gfmd.FIRE, "fire_mass": gfmd.FIRE_MASS, "mass_fire": gfmd.MASS_FIRE}
+    solvers = {"verlet": gfmd.VERLET, "fire": gfmd.FIRE, "fire_mass": gfmd.MASS_WEIGHTED_FIRE,
+               "mass_fire": gfmd.APPROACH_THEN_FIRE}
     for sname, solver in solvers.items():
         for body in ("halfspace", "fluid_w4", "bonded_w8_adhesive"):
             with gfmd.Simulation(64, 48, 64.0, 48.0, threads=1, planner=gfmd.ESTIMATE) as s:
@@ -181,6 +182,9 @@ def test_constants_are_the_tables():
             values[parts[1]] = int(parts[2])
     assert values and all(getattr(gfmd, k) == v for k, v in values.items())
     assert (gfmd.HALFSPACE, gfmd.LAYER_FLUID, gfmd.LAYER_BONDED) == (0, 1, 2)
+    # the deprecated names keep their values (the ABI's): the two mass-weighted methods
+    assert gfmd.GFMD_SOLVER_FIRE_MASS == gfmd.FIRE_MASS == gfmd.MASS_WEIGHTED_FIRE == 2
+    assert gfmd.GFMD_SOLVER_MASS_FIRE == gfmd.MASS_FIRE == gfmd.APPROACH_THEN_FIRE == 5
 
 
 def test_missing_library_names_every_place_tried(tmp_path):

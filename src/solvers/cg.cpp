@@ -313,7 +313,7 @@ namespace {
 // The preconditioner's floor k_c: the stiffness at the wave vector q_c = min(0.5 q_spacing, 1/w)
 // (at dense contacts 1/w no lower than 0.5 q_spacing / kPcgDenseRatio), q_spacing that of the
 // contact points' mean spacing.  Modes longer than the spacing are pinned by the contacts (as
-// mass-weighted FIRE's mass floor, fire_mass.cpp); on a thick layer the floor stays at or below
+// mass-weighted FIRE's mass floor, mass_weighted_fire.cpp); on a thick layer the floor stays at or below
 // the wave vector 1/w where the layer turns from half-space to plate.
 // Measured (gfmd_bench --loads 0.002,0.01,0.05, W = 0.0625 ... 10, 256^2-1024^2, from flat):
 // 0.5 q_spacing was best of 0.125 ... 2 (0.125 took up to 20x the iterations, 1 up to 1.8x); the

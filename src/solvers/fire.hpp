@@ -1,4 +1,5 @@
-// FIRE 2.0 on the real-space field with unit mass per area, the default solver.
+// FIRE 2.0 on the real-space field with unit mass per area (Bitzek et al., PRL 97, 170201 (2006);
+// Guenole et al., Comput. Mater. Sci. 175, 109584 (2020)): GFMD_SOLVER_FIRE.
 #ifndef GFMD_SRC_SOLVERS_FIRE_HPP
 #define GFMD_SRC_SOLVERS_FIRE_HPP
 

@@ -15,15 +15,15 @@
 namespace gfmd {
 
 namespace {
-constexpr double kInnerTolerance = 0.1;  // the CG to a tenth of its right-hand side (bench/stencil_newton --rtol)
+constexpr double kInnerTolerance = 0.1;  // the CG to a tenth of its right-hand side (measured best of 0.01 ... 0.3)
 constexpr int kMaxInner = 500;
 constexpr double kArmijo = 1e-4;
 constexpr int kMaxHalvings = 20;  // alpha down to 2^-20, about 1e-6 (the measured program's floor)
 // With adhesion the CG's iterate stays within max |d| <= radius on the free points (Steihaug's CG):
 // the radius starts at kTrustStart rho after a restart, doubles after a full step to its edge,
 // and after a shortened step becomes the step taken, but not less than kTrustFloor rho (rho the
-// scale on which the adhesive law changes).  Measured in bench/stencil_newton --trust 1,0.3
-// (docs/performance.md, "A trust region for the Newton method on the adhesive sheets"): a floor
+// scale on which the adhesive law changes).  Measured (docs/decisions.md, "The active-set Newton
+// method"): a floor
 // of 1e-3 rho let one point toggling between held and free shrink the region to nothing; a
 // region in the 2-norm did worse than none.
 constexpr double kTrustStart = 1.0;

@@ -21,8 +21,7 @@
 //                  one forward transform (the energy's change by Parseval, the adhesive law's part
 //                  summed point by point), each CG iteration one FFT pair and one cycle (about
 //                  1.3-1.9 pairs at 2048^2).
-// Measured first as bench/stencil_newton against the library's default (docs/performance.md,
-// "The stencil's Newton method in C", "A trust region ...", and "... as a solver of the library").
+// Why this method, and its measurements: docs/decisions.md, "The active-set Newton method".
 // Takes a layer on a fluid foundation under pressure control on a serial square grid of square
 // cells whose side is a power of 2 >= 32 (newton_refusal()); its velocity stays zero.
 #ifndef GFMD_SRC_SOLVERS_NEWTON_HPP

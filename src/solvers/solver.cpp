@@ -6,8 +6,8 @@
 #include "../error.hpp"
 #include "cg.hpp"
 #include "fire.hpp"
-#include "fire_mass.hpp"
-#include "mass_fire.hpp"
+#include "mass_weighted_fire.hpp"
+#include "approach_then_fire.hpp"
 #include "newton.hpp"
 #include "verlet.hpp"
 
@@ -40,8 +40,8 @@ std::unique_ptr<Solver> make_solver(int32_t kind, const FftGrid &grid, const Dyn
     switch (kind) {  // one line per solver
         case GFMD_SOLVER_VERLET: s = std::make_unique<Verlet>(); break;
         case GFMD_SOLVER_FIRE: s = std::make_unique<Fire>(); break;
-        case GFMD_SOLVER_FIRE_MASS: s = std::make_unique<FireMass>(grid); break;
-        case GFMD_SOLVER_MASS_FIRE: s = std::make_unique<MassThenFire>(grid); break;
+        case GFMD_SOLVER_MASS_WEIGHTED_FIRE: s = std::make_unique<MassWeightedFire>(grid); break;
+        case GFMD_SOLVER_APPROACH_THEN_FIRE: s = std::make_unique<ApproachThenFire>(grid); break;
         case GFMD_SOLVER_CG: s = std::make_unique<ConjugateGradient>(grid); break;
         case GFMD_SOLVER_NEWTON: s = make_newton(grid); break;
         default: fail(GFMD_ERR_BAD_ENUM, "unknown solver " + std::to_string(kind));

@@ -142,15 +142,15 @@ static void adhesion_layer(void **state) {
 /* The same checks for FIRE with mass weighting, down to a thin sheet (W = 0.25). */
 static void adhesion_mass_weighted(void **state) {
     (void)state;
-    check_body(GFMD_GREEN_HALFSPACE, 0.0, GFMD_SOLVER_FIRE_MASS);
-    check_body(GFMD_GREEN_LAYER_FLUID, 8.0, GFMD_SOLVER_FIRE_MASS);
-    check_body(GFMD_GREEN_LAYER_FLUID, 1.0, GFMD_SOLVER_FIRE_MASS);
+    check_body(GFMD_GREEN_HALFSPACE, 0.0, GFMD_SOLVER_MASS_WEIGHTED_FIRE);
+    check_body(GFMD_GREEN_LAYER_FLUID, 8.0, GFMD_SOLVER_MASS_WEIGHTED_FIRE);
+    check_body(GFMD_GREEN_LAYER_FLUID, 1.0, GFMD_SOLVER_MASS_WEIGHTED_FIRE);
 }
 
 /* And for the approach then FIRE (the default's choice on adhesive thin sheets). */
 static void adhesion_approach_then_fire(void **state) {
     (void)state;
-    check_body(GFMD_GREEN_LAYER_FLUID, 1.0, GFMD_SOLVER_MASS_FIRE);
+    check_body(GFMD_GREEN_LAYER_FLUID, 1.0, GFMD_SOLVER_APPROACH_THEN_FIRE);
 }
 
 /* And for the CG, which takes adhesion under pressure control (the surface CG, its line search

@@ -344,8 +344,8 @@ static void automatic_choice(void **state) {
     double area = 0.0;
     assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.05, 0.0, 0), GFMD_SOLVER_CG);
     assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.002, 0.0, 0), GFMD_SOLVER_CG);
-    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.001, 1e-3, 0), GFMD_SOLVER_FIRE_MASS);
-    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.004, 1e-3, 0), GFMD_SOLVER_MASS_FIRE);
+    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.001, 1e-3, 0), GFMD_SOLVER_MASS_WEIGHTED_FIRE);
+    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.004, 1e-3, 0), GFMD_SOLVER_APPROACH_THEN_FIRE);
     assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.05, 1e-3, 0), GFMD_SOLVER_FIRE);
     /* the loads on both sides of Persson's A/A0 = 0.1, adhesive (CG out of the way) */
     gfmd_sim *p = ts_create(128, 128, 128.0, 128.0);
@@ -360,7 +360,7 @@ static void automatic_choice(void **state) {
     TS_OK(p, gfmd_persson_contact_area(p, 0.012, &area));
     assert_true(area > 0.1);
     gfmd_sim_destroy(&p);
-    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.008, 1e-3, 0), GFMD_SOLVER_MASS_FIRE);
+    assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.008, 1e-3, 0), GFMD_SOLVER_APPROACH_THEN_FIRE);
     assert_int_equal(chosen(128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.012, 1e-3, 0), GFMD_SOLVER_FIRE);
     /* with adhesion the CG on every layer on a fluid foundation no thinner than the grid
      * resolves, q_t w >= 6 (q_t = q_max = pi sqrt(2)/a on these substrates), at every load: w = 2
@@ -374,24 +374,24 @@ static void automatic_choice(void **state) {
     assert_int_equal(chosen_at_area(128, 5.8 / q_max, 0.3, 1e-3), GFMD_SOLVER_FIRE);
     /* the thinner ones take the approach where their longest wave is soft, f(q_min w) >= 2e4:
      * w = 1 (q_max w = 4.4) at 128^2 (f = 5e4), not at 64^2 (f = 6.4e3) */
-    assert_int_equal(chosen_at_area(128, 1.0, 0.05, 1e-3), GFMD_SOLVER_MASS_FIRE);
+    assert_int_equal(chosen_at_area(128, 1.0, 0.05, 1e-3), GFMD_SOLVER_APPROACH_THEN_FIRE);
     assert_int_equal(chosen_at_area(64, 1.0, 0.05, 1e-3), GFMD_SOLVER_FIRE);
     /* the thinner sticky sheets, q_max w < 4 (q_max = pi sqrt(2)/a): mass-weighted FIRE wherever
      * the approach would be taken (A/A0 < 0.1); at q_max w = 4.2 only below A/A0 = 0.02.  Both
      * sides of both bounds, at 128^2 (f(q_min w) >= 2e4 for all three widths) */
-    assert_int_equal(chosen_at_area(128, 3.8 / q_max, 0.05, 1e-3), GFMD_SOLVER_FIRE_MASS);
-    assert_int_equal(chosen_at_area(128, 3.8 / q_max, 0.09, 1e-3), GFMD_SOLVER_FIRE_MASS);
+    assert_int_equal(chosen_at_area(128, 3.8 / q_max, 0.05, 1e-3), GFMD_SOLVER_MASS_WEIGHTED_FIRE);
+    assert_int_equal(chosen_at_area(128, 3.8 / q_max, 0.09, 1e-3), GFMD_SOLVER_MASS_WEIGHTED_FIRE);
     assert_int_equal(chosen_at_area(128, 3.8 / q_max, 0.11, 1e-3), GFMD_SOLVER_FIRE);
-    assert_int_equal(chosen_at_area(128, 4.2 / q_max, 0.05, 1e-3), GFMD_SOLVER_MASS_FIRE);
-    assert_int_equal(chosen_at_area(128, 4.2 / q_max, 0.018, 1e-3), GFMD_SOLVER_FIRE_MASS);
-    assert_int_equal(chosen_at_area(128, 4.2 / q_max, 0.022, 1e-3), GFMD_SOLVER_MASS_FIRE);
+    assert_int_equal(chosen_at_area(128, 4.2 / q_max, 0.05, 1e-3), GFMD_SOLVER_APPROACH_THEN_FIRE);
+    assert_int_equal(chosen_at_area(128, 4.2 / q_max, 0.018, 1e-3), GFMD_SOLVER_MASS_WEIGHTED_FIRE);
+    assert_int_equal(chosen_at_area(128, 4.2 / q_max, 0.022, 1e-3), GFMD_SOLVER_APPROACH_THEN_FIRE);
     /* those thicknesses read the substrate's shortest wave: q_max w above is 2 sqrt(2) q_s w on
      * these substrates (lambda_s = 4a).  A smoother one (lambda_s = 8a, 256^2, w = 2: q_max w = 8.9
      * but 2 sqrt(2) q_s w = 4.4) makes the same sheet thin: mass-weighted FIRE at Persson's A/A0 =
      * 0.004 (docs/performance.md "Bodies drawn at random"; the scan behind it in commit 9cf5fc3's
      * message), not at 0.03; one rough down to lambda_s = 2a or 4a keeps q_max w = 8.9: the CG */
-    assert_int_equal(chosen_on(256, 2.0, 8.0, 0.004, 1e-3), GFMD_SOLVER_FIRE_MASS);
-    assert_int_equal(chosen_on(256, 2.0, 8.0, 0.03, 1e-3), GFMD_SOLVER_MASS_FIRE);
+    assert_int_equal(chosen_on(256, 2.0, 8.0, 0.004, 1e-3), GFMD_SOLVER_MASS_WEIGHTED_FIRE);
+    assert_int_equal(chosen_on(256, 2.0, 8.0, 0.03, 1e-3), GFMD_SOLVER_APPROACH_THEN_FIRE);
     assert_int_equal(chosen_on(256, 2.0, 2.0, 0.004, 1e-3), GFMD_SOLVER_CG);
     assert_int_equal(chosen_on(256, 2.0, 4.0, 0.004, 1e-3), GFMD_SOLVER_CG);
     /* without adhesion CG on every layer on a fluid foundation: a thick one (w = 64, f = 2.6) too */
@@ -419,10 +419,10 @@ static void automatic_choice(void **state) {
         {128, GFMD_GREEN_HALFSPACE, 0.0, 0.0, GFMD_SOLVER_CG},
         {128, GFMD_GREEN_LAYER_BONDED, 8.0, 0.0, GFMD_SOLVER_CG},
         {256, GFMD_GREEN_LAYER_FLUID, 64.0, 0.0, GFMD_SOLVER_CG},
-        {256, GFMD_GREEN_LAYER_FLUID, 32.0, 0.0, GFMD_SOLVER_FIRE_MASS},
-        {128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.0, GFMD_SOLVER_FIRE_MASS},
-        {128, GFMD_GREEN_LAYER_FLUID, 1.0, 1e-3, GFMD_SOLVER_FIRE_MASS},
-        {256, GFMD_GREEN_LAYER_FLUID, 70.0, 1e-3, GFMD_SOLVER_FIRE_MASS},
+        {256, GFMD_GREEN_LAYER_FLUID, 32.0, 0.0, GFMD_SOLVER_MASS_WEIGHTED_FIRE},
+        {128, GFMD_GREEN_LAYER_FLUID, 1.0, 0.0, GFMD_SOLVER_MASS_WEIGHTED_FIRE},
+        {128, GFMD_GREEN_LAYER_FLUID, 1.0, 1e-3, GFMD_SOLVER_MASS_WEIGHTED_FIRE},
+        {256, GFMD_GREEN_LAYER_FLUID, 70.0, 1e-3, GFMD_SOLVER_MASS_WEIGHTED_FIRE},
         {256, GFMD_GREEN_LAYER_FLUID, 80.0, 1e-3, GFMD_SOLVER_FIRE},
         {128, GFMD_GREEN_HALFSPACE, 0.0, 1e-3, GFMD_SOLVER_FIRE},
         {128, GFMD_GREEN_LAYER_BONDED, 8.0, 1e-3, GFMD_SOLVER_FIRE},
@@ -440,9 +440,9 @@ static void automatic_choice(void **state) {
      * the substrate above the mean position is >= 0.25 (w = 4 at 256^2: f(q_min w) = 6e3), on the
      * softest layers (f >= 1e4: w = 4 at 512^2, 5e4) from 0.35 (automatic_choice_large_grids);
      * with adhesion as without */
-    assert_int_equal(fluid_at_overlap(256, 4.0, 0.24, 0.0), GFMD_SOLVER_FIRE_MASS);
+    assert_int_equal(fluid_at_overlap(256, 4.0, 0.24, 0.0), GFMD_SOLVER_MASS_WEIGHTED_FIRE);
     assert_int_equal(fluid_at_overlap(256, 4.0, 0.26, 0.0), GFMD_SOLVER_FIRE);
-    assert_int_equal(fluid_at_overlap(256, 4.0, 0.24, 1e-3), GFMD_SOLVER_FIRE_MASS);
+    assert_int_equal(fluid_at_overlap(256, 4.0, 0.24, 1e-3), GFMD_SOLVER_MASS_WEIGHTED_FIRE);
     assert_int_equal(fluid_at_overlap(256, 4.0, 0.26, 1e-3), GFMD_SOLVER_FIRE);
 }
 
@@ -488,7 +488,7 @@ static void automatic_choice_large_grids(void **state) {
     assert_int_equal(chosen(512, GFMD_GREEN_LAYER_BONDED, 64.0, 0.05, 0.0, 1), GFMD_SOLVER_CG);
     /* near the substrate mass weighting gives way to FIRE from a fraction 0.35 of the substrate
      * above the mean position on the softest layers (f >= 1e4: w = 4 at 512^2, 5e4) */
-    assert_int_equal(fluid_at_overlap(512, 4.0, 0.30, 0.0), GFMD_SOLVER_FIRE_MASS);
+    assert_int_equal(fluid_at_overlap(512, 4.0, 0.30, 0.0), GFMD_SOLVER_MASS_WEIGHTED_FIRE);
     assert_int_equal(fluid_at_overlap(512, 4.0, 0.36, 0.0), GFMD_SOLVER_FIRE);
     /* the choice follows the load's control: a 512^2 half-space (1.9e5) is FIRE's under pressure
      * control (the pressure CG's bound 4e4), CG's under displacement control, FIRE's again after,
@@ -596,19 +596,19 @@ static void automatic_choice_when_continuing(void **state) {
         const struct {
             double width, area;
             int32_t at_2048;
-        } cases[] = {{0.5, 0.06, GFMD_SOLVER_FIRE_MASS}, {0.5, 0.07, GFMD_SOLVER_MASS_FIRE},
-                     {0.5, 0.13, GFMD_SOLVER_MASS_FIRE}, {0.5, 0.14, GFMD_SOLVER_FIRE},
-                     {1.0, 0.03, GFMD_SOLVER_FIRE_MASS}, {1.0, 0.04, GFMD_SOLVER_MASS_FIRE},
-                     {1.0, 0.065, GFMD_SOLVER_MASS_FIRE}, {1.0, 0.07, GFMD_SOLVER_FIRE},
-                     {0.2, 0.16, GFMD_SOLVER_FIRE_MASS}, {0.2, 0.18, GFMD_SOLVER_FIRE},
-                     {0.708, 0.046, GFMD_SOLVER_FIRE_MASS}, {0.708, 0.049, GFMD_SOLVER_MASS_FIRE},
-                     {0.708, 0.094, GFMD_SOLVER_MASS_FIRE}, {0.708, 0.097, GFMD_SOLVER_FIRE},
-                     {0.352, 0.094, GFMD_SOLVER_FIRE_MASS}, {0.352, 0.098, GFMD_SOLVER_MASS_FIRE},
-                     {0.352, 0.148, GFMD_SOLVER_MASS_FIRE}, {0.352, 0.152, GFMD_SOLVER_FIRE},
-                     {0.25, 0.133, GFMD_SOLVER_FIRE_MASS}, {0.25, 0.137, GFMD_SOLVER_MASS_FIRE},
-                     {0.25, 0.148, GFMD_SOLVER_MASS_FIRE}, {0.25, 0.152, GFMD_SOLVER_FIRE},
-                     {0.176, 0.19, GFMD_SOLVER_FIRE_MASS}, {0.176, 0.194, GFMD_SOLVER_FIRE},
-                     {1.2, 0.02, GFMD_SOLVER_FIRE_MASS},
+        } cases[] = {{0.5, 0.06, GFMD_SOLVER_MASS_WEIGHTED_FIRE}, {0.5, 0.07, GFMD_SOLVER_APPROACH_THEN_FIRE},
+                     {0.5, 0.13, GFMD_SOLVER_APPROACH_THEN_FIRE}, {0.5, 0.14, GFMD_SOLVER_FIRE},
+                     {1.0, 0.03, GFMD_SOLVER_MASS_WEIGHTED_FIRE}, {1.0, 0.04, GFMD_SOLVER_APPROACH_THEN_FIRE},
+                     {1.0, 0.065, GFMD_SOLVER_APPROACH_THEN_FIRE}, {1.0, 0.07, GFMD_SOLVER_FIRE},
+                     {0.2, 0.16, GFMD_SOLVER_MASS_WEIGHTED_FIRE}, {0.2, 0.18, GFMD_SOLVER_FIRE},
+                     {0.708, 0.046, GFMD_SOLVER_MASS_WEIGHTED_FIRE}, {0.708, 0.049, GFMD_SOLVER_APPROACH_THEN_FIRE},
+                     {0.708, 0.094, GFMD_SOLVER_APPROACH_THEN_FIRE}, {0.708, 0.097, GFMD_SOLVER_FIRE},
+                     {0.352, 0.094, GFMD_SOLVER_MASS_WEIGHTED_FIRE}, {0.352, 0.098, GFMD_SOLVER_APPROACH_THEN_FIRE},
+                     {0.352, 0.148, GFMD_SOLVER_APPROACH_THEN_FIRE}, {0.352, 0.152, GFMD_SOLVER_FIRE},
+                     {0.25, 0.133, GFMD_SOLVER_MASS_WEIGHTED_FIRE}, {0.25, 0.137, GFMD_SOLVER_APPROACH_THEN_FIRE},
+                     {0.25, 0.148, GFMD_SOLVER_APPROACH_THEN_FIRE}, {0.25, 0.152, GFMD_SOLVER_FIRE},
+                     {0.176, 0.19, GFMD_SOLVER_MASS_WEIGHTED_FIRE}, {0.176, 0.194, GFMD_SOLVER_FIRE},
+                     {1.2, 0.02, GFMD_SOLVER_MASS_WEIGHTED_FIRE},
                      {64.0, 0.035, GFMD_SOLVER_CG}, {64.0, 0.045, GFMD_SOLVER_FIRE}};
         for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
             double load = 0.0;
@@ -649,7 +649,7 @@ static void automatic_choice_when_continuing(void **state) {
             assert_int_equal(gfmd_relax_multilevel(s, 0.0, 3, 2, &steps, &coarse), GFMD_ERR_NOT_CONVERGED);
             assert_int_equal(steps, 3);
             TS_OK(s, gfmd_get_solver(s, &solver));
-            assert_int_equal(solver, n >= 1024 ? GFMD_SOLVER_NEWTON : GFMD_SOLVER_FIRE_MASS);
+            assert_int_equal(solver, n >= 1024 ? GFMD_SOLVER_NEWTON : GFMD_SOLVER_MASS_WEIGHTED_FIRE);
             TS_OK(s, gfmd_reset(s));
         }
         /* A thick layer at a pressure well below full contact (pi E* 0.5/wavelength >= 0.003;
@@ -716,7 +716,7 @@ static int32_t thin_continuing_choice_adhesive(int64_t n, double lambda_s, doubl
     int32_t solver = -1;
     TS_OK(s, gfmd_get_solver(s, &solver));
     if (gamma0 > 0.0) /* flat: never the Newton method */
-        assert_true(solver == GFMD_SOLVER_FIRE_MASS || solver == GFMD_SOLVER_MASS_FIRE);
+        assert_true(solver == GFMD_SOLVER_MASS_WEIGHTED_FIRE || solver == GFMD_SOLVER_APPROACH_THEN_FIRE);
     else
         assert_int_equal(solver, GFMD_SOLVER_CG); /* flat */
     TS_OK(s, gfmd_step(s, 2));
@@ -746,14 +746,14 @@ static void automatic_choice_newton(void **state) {
     assert_int_equal(thin_continuing_choice_at(1024, 4.0, 0.352, 0.01), GFMD_SOLVER_NEWTON);
     assert_int_equal(thin_continuing_choice_at(1024, 4.0, 0.352, 0.44), GFMD_SOLVER_NEWTON);
     assert_int_equal(thin_continuing_choice_at(1024, 4.0, 0.352, 0.46), GFMD_SOLVER_FIRE);
-    assert_int_equal(thin_continuing_choice_at(512, 4.0, 0.352, 0.01), GFMD_SOLVER_FIRE_MASS);
+    assert_int_equal(thin_continuing_choice_at(512, 4.0, 0.352, 0.01), GFMD_SOLVER_MASS_WEIGHTED_FIRE);
     assert_int_equal(thin_continuing_choice_at(512, 4.0, 0.352, 0.2), GFMD_SOLVER_FIRE);
     /* with the study's adhesion (its trust region) the same bounds: from 1024^2 on below Persson's
      * A/A0 = 0.45, mass-weighted FIRE (q_t w < 4) below 0.1 at 512^2, FIRE above */
     assert_int_equal(thin_continuing_choice_adhesive(1024, 4.0, 0.352, 0.01, 5e-4), GFMD_SOLVER_NEWTON);
     assert_int_equal(thin_continuing_choice_adhesive(1024, 4.0, 0.352, 0.44, 5e-4), GFMD_SOLVER_NEWTON);
     assert_int_equal(thin_continuing_choice_adhesive(1024, 4.0, 0.352, 0.46, 5e-4), GFMD_SOLVER_FIRE);
-    assert_int_equal(thin_continuing_choice_adhesive(512, 4.0, 0.352, 0.01, 5e-4), GFMD_SOLVER_FIRE_MASS);
+    assert_int_equal(thin_continuing_choice_adhesive(512, 4.0, 0.352, 0.01, 5e-4), GFMD_SOLVER_MASS_WEIGHTED_FIRE);
 }
 
 /* Below 2048^2 a thin soft sheet's continuing load takes the thin sheets' choice only where the
@@ -766,9 +766,9 @@ static void automatic_choice_newton(void **state) {
 static void automatic_choice_thin_by_roughness(void **state) {
     (void)state;
     if (ts_valgrind()) skip();
-    assert_int_equal(thin_continuing_choice(512, 2.0, 0.5), GFMD_SOLVER_FIRE_MASS);
+    assert_int_equal(thin_continuing_choice(512, 2.0, 0.5), GFMD_SOLVER_MASS_WEIGHTED_FIRE);
     assert_int_equal(thin_continuing_choice(512, 2.0, 0.6), GFMD_SOLVER_CG);
-    assert_int_equal(thin_continuing_choice(512, 8.0, 1.2), GFMD_SOLVER_FIRE_MASS);
+    assert_int_equal(thin_continuing_choice(512, 8.0, 1.2), GFMD_SOLVER_MASS_WEIGHTED_FIRE);
 }
 
 /* ... and only on grids of at least 128^2 points: a sheet w = 0.15 a on lambda_s = 4a (q_max w =
@@ -779,7 +779,7 @@ static void automatic_choice_thin_by_roughness(void **state) {
 static void automatic_choice_thin_grid_bound(void **state) {
     (void)state;
     assert_int_equal(thin_continuing_choice(64, 4.0, 0.15), GFMD_SOLVER_CG);
-    assert_int_equal(thin_continuing_choice(128, 4.0, 0.15), GFMD_SOLVER_FIRE_MASS);
+    assert_int_equal(thin_continuing_choice(128, 4.0, 0.15), GFMD_SOLVER_MASS_WEIGHTED_FIRE);
 }
 
 /* CG's 16 bytes per point that cannot be had: GFMD_ERR_NOMEM and the solver unchanged.  In a child
@@ -882,7 +882,7 @@ static void memory_per_point(void **state) {
      * 8 B/pt of the free points' response to a uniform pull (hold_mean) */
     const footprint_case cases[6] = {{1024, GFMD_GREEN_HALFSPACE, 0.0, GFMD_SOLVER_AUTO, 0},
                                      {1024, GFMD_GREEN_LAYER_FLUID, 4.0, GFMD_SOLVER_AUTO, 0},       /* W = 1 */
-                                     {1024, GFMD_GREEN_LAYER_FLUID, 0.25, GFMD_SOLVER_FIRE_MASS, 0}, /* W = 0.0625 */
+                                     {1024, GFMD_GREEN_LAYER_FLUID, 0.25, GFMD_SOLVER_MASS_WEIGHTED_FIRE, 0}, /* W = 0.0625 */
                                      {1024, GFMD_GREEN_LAYER_FLUID, 0.25, GFMD_SOLVER_AUTO, 1},
                                      {1024, GFMD_GREEN_LAYER_BONDED, 8.0, GFMD_SOLVER_CG, 0},
                                      {1024, GFMD_GREEN_LAYER_FLUID, 0.25, GFMD_SOLVER_NEWTON, 0}};
@@ -999,6 +999,11 @@ static void messages(void **state) {
     assert_string_equal(gfmd_status_string(-1), "unknown status");
     assert_string_equal(gfmd_status_string(1000), "unknown status");
     assert_string_equal(gfmd_version(), GFMD_VERSION_STRING);
+    /* the deprecated names of the two mass-weighted methods keep their values (the ABI's) */
+    assert_int_equal(GFMD_SOLVER_FIRE_MASS, GFMD_SOLVER_MASS_WEIGHTED_FIRE);
+    assert_int_equal(GFMD_SOLVER_MASS_WEIGHTED_FIRE, 2);
+    assert_int_equal(GFMD_SOLVER_MASS_FIRE, GFMD_SOLVER_APPROACH_THEN_FIRE);
+    assert_int_equal(GFMD_SOLVER_APPROACH_THEN_FIRE, 5);
 }
 
 int main(void) {

@@ -155,16 +155,16 @@ static void bonded_layer(void **state) {
 static void mass_weighted(void **state) {
     (void)state;
     const rough_case cases[] = {
-        {128, GFMD_GREEN_HALFSPACE, 0.0, 0.0, 0.05, GFMD_SOLVER_FIRE_MASS},
-        {64, GFMD_GREEN_LAYER_FLUID, 4.0, 0.0, 0.05, GFMD_SOLVER_FIRE_MASS},   /* W = 1 */
-        {64, GFMD_GREEN_LAYER_FLUID, 1.0, 0.0, 3e-4, GFMD_SOLVER_FIRE_MASS},   /* W = 0.25 */
-        {64, GFMD_GREEN_LAYER_BONDED, 4.0, 0.3, 0.05, GFMD_SOLVER_FIRE_MASS},
+        {128, GFMD_GREEN_HALFSPACE, 0.0, 0.0, 0.05, GFMD_SOLVER_MASS_WEIGHTED_FIRE},
+        {64, GFMD_GREEN_LAYER_FLUID, 4.0, 0.0, 0.05, GFMD_SOLVER_MASS_WEIGHTED_FIRE},   /* W = 1 */
+        {64, GFMD_GREEN_LAYER_FLUID, 1.0, 0.0, 3e-4, GFMD_SOLVER_MASS_WEIGHTED_FIRE},   /* W = 0.25 */
+        {64, GFMD_GREEN_LAYER_BONDED, 4.0, 0.3, 0.05, GFMD_SOLVER_MASS_WEIGHTED_FIRE},
         /* the approach then FIRE (the default's choice on thin sheets at low load) */
-        {64, GFMD_GREEN_LAYER_FLUID, 1.0, 0.0, 3e-4, GFMD_SOLVER_MASS_FIRE},   /* W = 0.25 */
-        {128, GFMD_GREEN_HALFSPACE, 0.0, 0.0, 0.05, GFMD_SOLVER_MASS_FIRE},
+        {64, GFMD_GREEN_LAYER_FLUID, 1.0, 0.0, 3e-4, GFMD_SOLVER_APPROACH_THEN_FIRE},   /* W = 0.25 */
+        {128, GFMD_GREEN_HALFSPACE, 0.0, 0.0, 0.05, GFMD_SOLVER_APPROACH_THEN_FIRE},
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k)
-        if (!ts_valgrind() || (cases[k].n == 64 && cases[k].solver == GFMD_SOLVER_FIRE_MASS)) compare_with_cg(&cases[k]);
+        if (!ts_valgrind() || (cases[k].n == 64 && cases[k].solver == GFMD_SOLVER_MASS_WEIGHTED_FIRE)) compare_with_cg(&cases[k]);
 }
 
 /* Mass-weighted FIRE's step is set for the highest frequency of its masked dynamics (the held
@@ -196,7 +196,7 @@ static void mass_weighted_thin_sheet_steps(void **state) {
             if (adhesion[a] > 0.0) TS_OK(s, gfmd_set_adhesion(s, adhesion[a], 1.0));
             double load = 0.0;
             TS_OK(s, gfmd_persson_load(s, 0.004, &load));
-            TS_OK(s, gfmd_set_solver(s, k == 0 ? GFMD_SOLVER_FIRE_MASS : GFMD_SOLVER_FIRE));
+            TS_OK(s, gfmd_set_solver(s, k == 0 ? GFMD_SOLVER_MASS_WEIGHTED_FIRE : GFMD_SOLVER_FIRE));
             TS_OK(s, gfmd_set_pressure(s, load));
             TS_OK(s, gfmd_relax(s, 0.0, 1000000, &steps[k])); /* the default tolerance: counted */
             int64_t more = 0;
@@ -219,7 +219,7 @@ static void mass_weighted_thin_sheet_steps(void **state) {
     }
 }
 
-/* GFMD_SOLVER_MASS_FIRE: at most 100 steps of mass weighting (at the step of the unmasked modes,
+/* GFMD_SOLVER_APPROACH_THEN_FIRE: at most 100 steps of mass weighting (at the step of the unmasked modes,
  * kApproachEstimates), then FIRE from there.  It switches (more than 100 steps), a relax in chunks
  * of 7 steps (which cross the switch) follows one call bit for bit, and it reaches FIRE's answer
  * from the same start (both to 1e-8: the contact sets within two points of 4096 and the gap to
@@ -236,7 +236,7 @@ static void approach_then_fire(void **state) {
             TS_OK(s[k], gfmd_generate_selfaffine(s[k], 0.8, 16.0, 4.0, 1.0, 99, GFMD_DIST_UNIFORM));
             TS_OK(s[k], gfmd_set_green(s[k], GFMD_GREEN_LAYER_FLUID, 1.0));
             if (adhesion[a] > 0.0) TS_OK(s[k], gfmd_set_adhesion(s[k], adhesion[a], 0.5));
-            TS_OK(s[k], gfmd_set_solver(s[k], k == 1 ? GFMD_SOLVER_FIRE : GFMD_SOLVER_MASS_FIRE));
+            TS_OK(s[k], gfmd_set_solver(s[k], k == 1 ? GFMD_SOLVER_FIRE : GFMD_SOLVER_APPROACH_THEN_FIRE));
             TS_OK(s[k], gfmd_set_pressure(s[k], 3e-4));
         }
         int64_t n0 = 0, n1 = 0, n2 = 0, k = 0;
@@ -489,7 +489,7 @@ static void solvers_agree(void **state) {
         const int adhesive = cases[c].gamma0 > 0.0;
         /* CG (non-adhesive only) takes the place of the damped dynamics on the thin sheet, which
          * needs ~13 000 steps there */
-        const int32_t solvers[5] = {GFMD_SOLVER_FIRE, GFMD_SOLVER_MASS_FIRE, GFMD_SOLVER_FIRE_MASS,
+        const int32_t solvers[5] = {GFMD_SOLVER_FIRE, GFMD_SOLVER_APPROACH_THEN_FIRE, GFMD_SOLVER_MASS_WEIGHTED_FIRE,
                                     adhesive || cases[c].width >= 4.0 ? GFMD_SOLVER_VERLET : GFMD_SOLVER_CG, GFMD_SOLVER_CG};
         const int nsolvers = adhesive ? (cases[c].width < 4.0 ? 3 : 4) : (cases[c].width < 4.0 ? 4 : 5);
         for (int k = 0; k < nsolvers; ++k)

@@ -38,9 +38,9 @@ static void fields(const gfmd_sim *s, double *z, double *p) {
 
 static void restart_is_bit_exact(void **state) {
     (void)state;
-    /* GFMD_SOLVER_MASS_FIRE saved inside its approach (37 of 100 mass-weighted steps) and resumed
+    /* GFMD_SOLVER_APPROACH_THEN_FIRE saved inside its approach (37 of 100 mass-weighted steps) and resumed
      * past its switch to FIRE (37 + 80 > 100) */
-    const int32_t solvers[] = {GFMD_SOLVER_VERLET, GFMD_SOLVER_FIRE, GFMD_SOLVER_FIRE_MASS, GFMD_SOLVER_MASS_FIRE};
+    const int32_t solvers[] = {GFMD_SOLVER_VERLET, GFMD_SOLVER_FIRE, GFMD_SOLVER_MASS_WEIGHTED_FIRE, GFMD_SOLVER_APPROACH_THEN_FIRE};
     for (size_t k = 0; k < sizeof solvers / sizeof solvers[0]; ++k) {
         gfmd_sim *a = make(solvers[k]), *b = NULL;
         double za[NX * NY], pa[NX * NY], zb[NX * NY], pb[NX * NY];
@@ -124,10 +124,10 @@ static void auto_choice_survives_restart(void **state) {
     TS_OK(a, gfmd_set_adhesion(a, 1e-4, 0.5));
     TS_OK(a, gfmd_set_pressure(a, 1e-5));
     TS_OK(a, gfmd_get_solver(a, &active));
-    assert_int_equal(active, GFMD_SOLVER_FIRE_MASS);
+    assert_int_equal(active, GFMD_SOLVER_MASS_WEIGHTED_FIRE);
     TS_OK(a, gfmd_step(a, 60));
     TS_OK(a, gfmd_sim_save(a, PATH));
-    expect_resumed(a, GFMD_SOLVER_FIRE_MASS, 90);
+    expect_resumed(a, GFMD_SOLVER_MASS_WEIGHTED_FIRE, 90);
 }
 
 static long file_size(const char *path) {
@@ -330,7 +330,7 @@ static void row_hashes_are_checked(void **state) {
 static void older_formats_resume(void **state) {
     (void)state;
     for (int version = 1; version <= 4; ++version)
-        for (int32_t solver = GFMD_SOLVER_VERLET; solver <= GFMD_SOLVER_FIRE_MASS; ++solver) {
+        for (int32_t solver = GFMD_SOLVER_VERLET; solver <= GFMD_SOLVER_MASS_WEIGHTED_FIRE; ++solver) {
             gfmd_sim *a = make(solver), *b = NULL;
             TS_OK(a, gfmd_step(a, 37));
             TS_OK(a, gfmd_sim_save(a, PATH));
@@ -386,7 +386,7 @@ static void older_formats_resume(void **state) {
             char msg[256] = "";
             const int32_t st_load = gfmd_sim_load("older.gfmd", &b, msg, sizeof msg);
             if (st_load != GFMD_OK) fail_msg("format %d: %s", version, msg);
-            if (version == 1 && solver == GFMD_SOLVER_FIRE_MASS) {
+            if (version == 1 && solver == GFMD_SOLVER_MASS_WEIGHTED_FIRE) {
                 /* without its frequency estimates b would estimate again from its held set of now,
                  * a used those of when each bucket was first entered: both start the dynamics anew */
                 TS_OK(a, gfmd_restart_solver(a));
@@ -604,14 +604,14 @@ static void newton_radius_values(void **state) {
     remove("damaged.gfmd");
 }
 
-/* A GFMD_SOLVER_MASS_FIRE file written before mass-weighted FIRE kept its frequency estimates per
+/* A GFMD_SOLVER_APPROACH_THEN_FIRE file written before mass-weighted FIRE kept its frequency estimates per
  * contact bucket (7 numbers of state: the approach's count, the mass-weighted control's 3 and
  * FIRE's 3, instead of 1 + 51 + 3) still loads and resumes bit for bit: the approach keeps the
  * step it had then and never reads the estimates.  Saved inside the approach (37 of its 100
  * steps) and resumed past its switch to FIRE. */
 static void mass_fire_state_without_estimates_resumes(void **state) {
     (void)state;
-    gfmd_sim *a = make(GFMD_SOLVER_MASS_FIRE);
+    gfmd_sim *a = make(GFMD_SOLVER_APPROACH_THEN_FIRE);
     TS_OK(a, gfmd_step(a, 37));
     /* 1 + 51 + 3 numbers, the approach's count first (37); the 48 estimates after the
      * mass-weighted control dropped; fields h, z and v */

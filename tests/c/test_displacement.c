@@ -66,8 +66,8 @@ static double max_abs_diff(const gfmd_sim *a, const gfmd_sim *b) {
 
 static void pressure_and_displacement_control_agree(void **state) {
     (void)state;
-    const int32_t solvers[5] = {GFMD_SOLVER_VERLET, GFMD_SOLVER_FIRE, GFMD_SOLVER_CG, GFMD_SOLVER_FIRE_MASS,
-                                GFMD_SOLVER_MASS_FIRE};
+    const int32_t solvers[5] = {GFMD_SOLVER_VERLET, GFMD_SOLVER_FIRE, GFMD_SOLVER_CG, GFMD_SOLVER_MASS_WEIGHTED_FIRE,
+                                GFMD_SOLVER_APPROACH_THEN_FIRE};
     for (int body = 0; body < 4; ++body)
         for (int k = 0; k < 5; ++k) {
             const int32_t solver = solvers[k];
@@ -162,7 +162,7 @@ static void cg_on_a_thin_sheet(void **state) {
  * few contacts (1 below the highest peak) and of more (2.5 below), from flat: against FIRE (a
  * second solver), the same equilibrium; the default takes mass weighting there.  Its step
  * projects the acceleration and the velocity onto the held mean in the preconditioner's metric
- * (src/solvers/fire_mass.cpp); before, mass weighting stalled with the mean held and was refused. */
+ * (src/solvers/mass_weighted_fire.cpp); before, mass weighting stalled with the mean held and was refused. */
 static gfmd_sim *thin_sheet(int64_t m, double width, double below, double gamma0) {
     gfmd_sim *s = NULL;
     assert_int_equal(gfmd_sim_create_ex(m, m, (double)m, (double)m, 1, GFMD_PLANNER_ESTIMATE, &s), GFMD_OK);
@@ -193,7 +193,7 @@ static void mass_weighted_on_thin_sheets(void **state) {
             r[k] = thin_sheet(M, cases[c].width, cases[c].below, cases[c].gamma0);
             int32_t chosen = -1;
             TS_OK(r[k], gfmd_get_solver(r[k], &chosen));
-            assert_int_equal(chosen, GFMD_SOLVER_FIRE_MASS); /* the default's choice */
+            assert_int_equal(chosen, GFMD_SOLVER_MASS_WEIGHTED_FIRE); /* the default's choice */
             if (k == 1) TS_OK(r[k], gfmd_set_solver(r[k], GFMD_SOLVER_FIRE));
             TS_OK(r[k], gfmd_relax(r[k], TOL, 2000000, &steps[k]));
             p[k] = mean_p(r[k]);
@@ -311,8 +311,8 @@ static void no_hysteresis_without_adhesion(void **state) {
  * 72 x 128 half-space). */
 static void full_contact(void **state) {
     (void)state;
-    const int32_t solvers[5] = {GFMD_SOLVER_VERLET, GFMD_SOLVER_FIRE, GFMD_SOLVER_CG, GFMD_SOLVER_FIRE_MASS,
-                                GFMD_SOLVER_MASS_FIRE};
+    const int32_t solvers[5] = {GFMD_SOLVER_VERLET, GFMD_SOLVER_FIRE, GFMD_SOLVER_CG, GFMD_SOLVER_MASS_WEIGHTED_FIRE,
+                                GFMD_SOLVER_APPROACH_THEN_FIRE};
     for (int terraces = 0; terraces < 2; ++terraces)
         for (int body = 0; body < 4; ++body)
             for (int k = 0; k < 5; ++k) {
@@ -361,16 +361,16 @@ static void full_contact(void **state) {
 
 static void constraint_errors_and_checkpoint(void **state) {
     (void)state;
-    gfmd_sim *s = make(2, GFMD_SOLVER_FIRE_MASS), *t = NULL;
+    gfmd_sim *s = make(2, GFMD_SOLVER_MASS_WEIGHTED_FIRE), *t = NULL;
     /* the mass-weighted solvers take the mode in both orders (once refused) */
     double h0[N], hm = 0.0;
     TS_OK(s, gfmd_get_heights(s, h0));
     for (int i = 0; i < N; ++i) hm += h0[i] / N;
     TS_OK(s, gfmd_set_mean_displacement(s, hm + 0.4));
-    TS_OK(s, gfmd_set_solver(s, GFMD_SOLVER_MASS_FIRE));
+    TS_OK(s, gfmd_set_solver(s, GFMD_SOLVER_APPROACH_THEN_FIRE));
     TS_OK(s, gfmd_set_pressure(s, 0.0));
     TS_OK(s, gfmd_set_mean_displacement(s, hm + 0.4));
-    TS_OK(s, gfmd_set_solver(s, GFMD_SOLVER_FIRE_MASS)); /* the run below: mass-weighted FIRE's state */
+    TS_OK(s, gfmd_set_solver(s, GFMD_SOLVER_MASS_WEIGHTED_FIRE)); /* the run below: mass-weighted FIRE's state */
     double h[N], hmean = 0.0;
     TS_OK(s, gfmd_get_heights(s, h));
     for (int i = 0; i < N; ++i) hmean += h[i] / N;
@@ -405,7 +405,7 @@ static void constraint_errors_and_checkpoint(void **state) {
 }
 
 /* Mass-weighted FIRE keeps the mean holding's B 1 = P M^-1 P 1 while the held set and the mass
- * floor stay (fire_mass.cpp); a kept one must have the bits a new one would.  A clone starts with
+ * floor stay (mass_weighted_fire.cpp); a kept one must have the bits a new one would.  A clone starts with
  * none, so a run cloned before every step computes it at every step: it must follow the run that
  * keeps it bit for bit, on the adhesive bonded layer and the fluid layer, from a deformed start
  * where the held set changes on some steps and not on others.  (Without the held-set comparison
@@ -413,7 +413,7 @@ static void constraint_errors_and_checkpoint(void **state) {
 static void kept_mean_response_has_the_bits_of_a_new_one(void **state) {
     (void)state;
     for (int body = 1; body <= 2; ++body) {
-        gfmd_sim *a = make(body, GFMD_SOLVER_FIRE_MASS), *b = NULL;
+        gfmd_sim *a = make(body, GFMD_SOLVER_MASS_WEIGHTED_FIRE), *b = NULL;
         double h[N], hm = 0.0;
         TS_OK(a, gfmd_get_heights(a, h));
         for (int i = 0; i < N; ++i) hm += h[i] / N;

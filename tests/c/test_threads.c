@@ -33,7 +33,7 @@ static void *run(void *arg) {
     if (st == GFMD_OK) st = gfmd_set_threads(s, 1);
     if (st == GFMD_OK) st = gfmd_generate_selfaffine(s, 0.8, 12.0, 4.0, 1.0, 100 + (uint64_t)j->index, 0);
     if (st == GFMD_OK && j->index % 2) st = gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 2.0 + j->index);
-    if (st == GFMD_OK && j->index % 3 == 2) st = gfmd_set_solver(s, GFMD_SOLVER_FIRE_MASS);
+    if (st == GFMD_OK && j->index % 3 == 2) st = gfmd_set_solver(s, GFMD_SOLVER_MASS_WEIGHTED_FIRE);
     if (st == GFMD_OK) st = gfmd_set_pressure(s, 0.02 * (1 + j->index));
     if (st == GFMD_OK) st = gfmd_relax(s, 1e-8, 100000, NULL);
     if (st == GFMD_OK) st = gfmd_get_contact_area(s, &j->area);
@@ -75,7 +75,7 @@ static void thread_count_does_not_change_the_equilibrium(void **state) {
     const struct {
         int32_t solver;
         int64_t n;
-    } runs[4] = {{GFMD_SOLVER_FIRE, 256}, {GFMD_SOLVER_FIRE_MASS, 128}, {GFMD_SOLVER_CG, 128}, {GFMD_SOLVER_NEWTON, 128}};
+    } runs[4] = {{GFMD_SOLVER_FIRE, 256}, {GFMD_SOLVER_MASS_WEIGHTED_FIRE, 128}, {GFMD_SOLVER_CG, 128}, {GFMD_SOLVER_NEWTON, 128}};
     /* Under valgrind, which runs the threads one at a time, the 128^2 runs only: FIRE's 256^2 pair of
      * relaxes (most of the test's time there) takes the same calls through more blocks per thread,
      * whose sharing ThreadSanitizer checks on this test, and ASan with it. */

@@ -7,7 +7,7 @@
  * the steps and the dimensionless results (A/A0, gap/a, U/(E* a^3), the mean pressure over E*)
  * must be the same bits, on every solver, under pressure and displacement control, with and
  * without adhesion.  A constant with a unit in the code shows as a difference: the approach of
- * GFMD_SOLVER_MASS_FIRE handed FIRE its velocity in the masked dynamics' units (the half-space
+ * GFMD_SOLVER_APPROACH_THEN_FIRE handed FIRE its velocity in the masked dynamics' units (the half-space
  * below took 261 steps in units of a and E*, 270 in these), and the projection of displacement
  * control stopped its root search at an absolute 1e-15 (1e-9 of the lengths in these units; the
  * CG's gap then differed in the last bit).  In units that are not powers of two (E* = 2e11,
@@ -75,7 +75,7 @@ static int32_t relax_in_units(double e_star, double a, int body, int displacemen
 
 static void units_do_not_matter(void **state) {
     (void)state;
-    const int32_t solvers[] = {GFMD_SOLVER_AUTO, GFMD_SOLVER_FIRE, GFMD_SOLVER_FIRE_MASS, GFMD_SOLVER_MASS_FIRE,
+    const int32_t solvers[] = {GFMD_SOLVER_AUTO, GFMD_SOLVER_FIRE, GFMD_SOLVER_MASS_WEIGHTED_FIRE, GFMD_SOLVER_APPROACH_THEN_FIRE,
                                GFMD_SOLVER_CG, GFMD_SOLVER_VERLET};
     const int n_solvers = (int)(sizeof solvers / sizeof solvers[0]);
     int compared = 0;

@@ -58,6 +58,9 @@ contains
     call check(threads == 1, 'create with threads = 1 keeps one thread')
     call a%get_solver(solver)
     call check(solver == GFMD_SOLVER_CG, 'the automatic choice on a small non-adhesive half-space is CG')
+    call check(GFMD_SOLVER_FIRE_MASS == GFMD_SOLVER_MASS_WEIGHTED_FIRE .and. GFMD_SOLVER_MASS_WEIGHTED_FIRE == 2 .and. &
+               GFMD_SOLVER_MASS_FIRE == GFMD_SOLVER_APPROACH_THEN_FIRE .and. GFMD_SOLVER_APPROACH_THEN_FIRE == 5, &
+               'the deprecated solver names keep their values')
     call a%generate_selfaffine(0.8_dp, 16.0_dp, 4.0_dp, 1.0_dp, seed)
     call a%get_heights(hf)
     p = c_null_ptr

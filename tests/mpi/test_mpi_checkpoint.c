@@ -50,7 +50,7 @@ static void observe(gfmd_sim *s, MPI_Comm comm, Run *r) {
 static void build(gfmd_sim *s, int body) {
     if (body == 0) {
         OK(gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 2.0));
-        OK(gfmd_set_solver(s, GFMD_SOLVER_FIRE_MASS));
+        OK(gfmd_set_solver(s, GFMD_SOLVER_MASS_WEIGHTED_FIRE));
     } else {
         OK(gfmd_set_poisson(s, 0.3));
         OK(gfmd_set_green(s, GFMD_GREEN_LAYER_BONDED, 6.0));
@@ -117,7 +117,7 @@ int main(int argc, char **argv) {
             if (d == NULL) continue;
             int32_t solver = -1;
             OK(gfmd_get_solver(d, &solver));
-            CHECK(solver == (body == 0 ? GFMD_SOLVER_FIRE_MASS : GFMD_SOLVER_CG), "body %d: solver %d", body, solver);
+            CHECK(solver == (body == 0 ? GFMD_SOLVER_MASS_WEIGHTED_FIRE : GFMD_SOLVER_CG), "body %d: solver %d", body, solver);
             OK(gfmd_step(d, kContinue));
             observe(d, comms[k], &loaded);
             if (rank == 0)

@@ -54,7 +54,7 @@ static void setup(gfmd_sim *s, const Case *c) {
         /* the cases are there for the mean-holding mass-weighted step (adhesive) and the surface
          * CG with the mean held (without adhesion): a default that chose otherwise would leave
          * them untested */
-        const int32_t usual = c->gamma0 > 0.0 ? GFMD_SOLVER_FIRE_MASS : GFMD_SOLVER_CG;
+        const int32_t usual = c->gamma0 > 0.0 ? GFMD_SOLVER_MASS_WEIGHTED_FIRE : GFMD_SOLVER_CG;
         const int32_t expected = c->expect != 0 ? c->expect : usual;
         CHECK(c->solver != GFMD_SOLVER_AUTO || active == expected, "%s: AUTO chose solver %d", c->name, (int)active);
     }
@@ -192,7 +192,7 @@ int main(int argc, char **argv) {
 
     const Case cases[] = {
         {"half-space FIRE 64x48", 64, 48, GFMD_GREEN_HALFSPACE, 0.0, 0.0, GFMD_SOLVER_FIRE, 0.0, 0.02, 0.0, 0},
-        {"fluid layer w=4 FIRE_MASS 45x30", 45, 30, GFMD_GREEN_LAYER_FLUID, 4.0, 0.0, GFMD_SOLVER_FIRE_MASS, 0.0, 0.01, 0.0, 0},
+        {"fluid layer w=4 FIRE_MASS 45x30", 45, 30, GFMD_GREEN_LAYER_FLUID, 4.0, 0.0, GFMD_SOLVER_MASS_WEIGHTED_FIRE, 0.0, 0.01, 0.0, 0},
         {"bonded w=8 nu=0.3 Verlet 32x40", 32, 40, GFMD_GREEN_LAYER_BONDED, 8.0, 0.3, GFMD_SOLVER_VERLET, 0.0, 0.02, 0.0, 0},
         {"bonded w=8 nu=0.5 CG 40x32", 40, 32, GFMD_GREEN_LAYER_BONDED, 8.0, 0.5, GFMD_SOLVER_CG, 0.0, 0.02, 0.0, 0},
         {"adhesive fluid w=2 FIRE 48x48", 48, 48, GFMD_GREEN_LAYER_FLUID, 2.0, 0.0, GFMD_SOLVER_FIRE, 5e-4, 0.002, 0.0, 0},

@@ -45,7 +45,7 @@ int main(int argc, char **argv) {
     FILE *out = (argc > 1) ? fopen(argv[1], "w") : stdout;
     if (out == NULL) return 2;
     const int64_t nx = 64, ny = 48; /* non-square: the layout matters */
-    const int32_t solvers[4] = {GFMD_SOLVER_VERLET, GFMD_SOLVER_FIRE, GFMD_SOLVER_FIRE_MASS, GFMD_SOLVER_MASS_FIRE};
+    const int32_t solvers[4] = {GFMD_SOLVER_VERLET, GFMD_SOLVER_FIRE, GFMD_SOLVER_MASS_WEIGHTED_FIRE, GFMD_SOLVER_APPROACH_THEN_FIRE};
     const char *solver_names[4] = {"verlet", "fire", "fire_mass", "mass_fire"};
     const char *body_names[3] = {"halfspace", "fluid_w4", "bonded_w8_adhesive"};
     double *z = malloc(sizeof(double) * (size_t)(nx * ny));

@@ -94,7 +94,7 @@ static int sheet(const sheet_run *c, const char *dir, int resume) {
  * rebuilt from the loaded surface: 2 steps, then 3) and with it (its radius from the file: 2 steps,
  * then 4; the radius grows to 4 rho in the first 2 and the third step reaches it). */
 static const sheet_run SHEETS[3] = {
-    {"sheet", NY, 0.25, 1e-4, 1e-5, -1, GFMD_SOLVER_FIRE_MASS, 60, 80},
+    {"sheet", NY, 0.25, 1e-4, 1e-5, -1, GFMD_SOLVER_MASS_WEIGHTED_FIRE, 60, 80},
     {"newton", NX, 0.35, 0.0, 2e-5, GFMD_SOLVER_NEWTON, GFMD_SOLVER_NEWTON, 2, 3},
     {"newton_adhesive", NX, 0.35, 1e-4, 2e-5, GFMD_SOLVER_NEWTON, GFMD_SOLVER_NEWTON, 2, 4},
 };

@@ -1,7 +1,7 @@
 // FIRE with mass weighting: each Fourier mode's inertia from its stiffness, floored at the
 // stiffness of the contact spacing (docs/model.md, docs/performance.md).
-#ifndef GFMD_SRC_SOLVERS_FIRE_MASS_HPP
-#define GFMD_SRC_SOLVERS_FIRE_MASS_HPP
+#ifndef GFMD_SRC_SOLVERS_MASS_WEIGHTED_FIRE_HPP
+#define GFMD_SRC_SOLVERS_MASS_WEIGHTED_FIRE_HPP
 
 #include <algorithm>
 #include <array>
@@ -11,17 +11,17 @@
 
 namespace gfmd {
 
-class FireMass final : public Solver {
+class MassWeightedFire final : public Solver {
 public:
     // One byte per point: the mask of the points the wall holds.  estimate = false: the step of the
-    // unmasked modes (lambda_max = 1), as GFMD_SOLVER_MASS_FIRE's approach takes it (mass_fire.hpp).
+    // unmasked modes (lambda_max = 1), as GFMD_SOLVER_APPROACH_THEN_FIRE's approach takes it (approach_then_fire.hpp).
     // Under displacement control one grid-sized field and a byte per point more (hold_mean()),
     // written only then: a buffer costs memory once written (buffer.hpp).
-    explicit FireMass(const FftGrid &grid, bool estimate = true)
+    explicit MassWeightedFire(const FftGrid &grid, bool estimate = true)
         : held_(static_cast<std::size_t>(grid.local_points())),
           mean_response_(static_cast<std::size_t>(grid.local_points())),
           response_held_(static_cast<std::size_t>(grid.local_points())), estimate_(estimate) {}
-    FireMass(const FireMass &o);
+    MassWeightedFire(const MassWeightedFire &o);
     void restart(const Dynamics &) override {
         control_.restart(kFireDtStart);  // a fraction of its own time step, mass_dt_
         bucket_ = -1;
@@ -29,7 +29,7 @@ public:
         response_valid_ = false;  // the body may have changed
     }
     void advance(StepContext &c) override;
-    std::unique_ptr<Solver> clone() const override { return std::make_unique<FireMass>(*this); }
+    std::unique_ptr<Solver> clone() const override { return std::make_unique<MassWeightedFire>(*this); }
     // FIRE's control, then the highest frequency^2 found for each contact-count bucket since the
     // last restart (0: none yet).  The floor is a function of the configuration (its contact
     // count): recomputed.  A state of FIRE's control alone (3 numbers, checkpoints of version
@@ -41,7 +41,7 @@ public:
     // the next).
     double step() const { return std::min(control_.dt, kMassDtMax) * mass_dt_; }
     // contact counts below 2^48 (a grid of 2^48 points needs petabytes); within the checkpoint
-    // format's 64 numbers of solver state also after GFMD_SOLVER_MASS_FIRE's 4 of its own
+    // format's 64 numbers of solver state also after GFMD_SOLVER_APPROACH_THEN_FIRE's 4 of its own
     static constexpr std::size_t kBuckets = 48;
 
 private:

@@ -1,4 +1,4 @@
-#include "fire_mass.hpp"
+#include "mass_weighted_fire.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -34,18 +34,18 @@ void apply_masked(const FftGrid &grid, double *x, std::complex<double> *work, co
 }
 }  // namespace
 
-FireMass::FireMass(const FireMass &o)
+MassWeightedFire::MassWeightedFire(const MassWeightedFire &o)
     : Solver(o), control_(o.control_), held_(o.held_.size()), mean_response_(o.mean_response_.size()),
       response_held_(o.response_held_.size()), floor_(o.floor_), mass_dt_(o.mass_dt_),
       inv_m_(o.inv_m_), bucket_(o.bucket_), estimate_(o.estimate_), lambda_(o.lambda_) {}
 
-std::vector<double> FireMass::state() const {
+std::vector<double> MassWeightedFire::state() const {
     std::vector<double> s = control_.state();
     s.insert(s.end(), lambda_.begin(), lambda_.end());
     return s;
 }
 
-void FireMass::set_state(const std::vector<double> &s) {
+void MassWeightedFire::set_state(const std::vector<double> &s) {
     const std::size_t nc = control_.state().size();
     if (s.size() != nc && s.size() != nc + kBuckets) fail(GFMD_ERR_FORMAT, "invalid state of mass-weighted FIRE");
     std::array<double, kBuckets> lambda{};
@@ -66,7 +66,7 @@ void FireMass::set_state(const std::vector<double> &s) {
 // raised to the stiffness k_c at the contact spacing, the largest 1/G(q) over the fraction phi of
 // modes with the smallest |q| (|q|^2 <= 4 pi phi / cell).  The floor depends only on the bucket
 // floor(log2(contacts)), so it is a function of the state (a checkpoint resumes bit for bit).
-void FireMass::update_mass_floor(const StepContext &c) {
+void MassWeightedFire::update_mass_floor(const StepContext &c) {
     const FftGrid &grid = c.grid;
     const RealBuffer &stiff = c.body.stiffness;
     const int64_t contacts = c.forces.contacts;
@@ -99,7 +99,7 @@ void FireMass::update_mass_floor(const StepContext &c) {
 // of M^-1 exceeds the inverse of M's block (Schur), and the modes coupled through the held points
 // are stiff.  With the step set for lambda = 1 FIRE went uphill every ~10 steps there (1485
 // restarts in 15 780 steps), its step halved each time.
-double FireMass::masked_lambda(StepContext &c) {
+double MassWeightedFire::masked_lambda(StepContext &c) {
     const FftGrid &grid = c.grid;
     const int64_t nxh = grid.nxh(), first = grid.first_row() * grid.nx();
     const double inv_n = 1.0 / static_cast<double>(grid.real_size()), floor = floor_;
@@ -156,7 +156,7 @@ double FireMass::masked_lambda(StepContext &c) {
 // from equilibrium (docs/performance.md, "Mass-weighted FIRE under displacement control").  At
 // equilibrium a = 0 on the free points, so F = la there, and la = 0: the mean pressure makes the
 // free points' forces sum to zero (evaluate_forces).  Returns |a| (a in place of B F).
-double FireMass::hold_mean(StepContext &c, double *a) {
+double MassWeightedFire::hold_mean(StepContext &c, double *a) {
     const FftGrid &grid = c.grid;
     const unsigned char *held = held_.data();
     double *b = mean_response_.data(), *v = c.fields.v.data();
@@ -216,7 +216,7 @@ double FireMass::hold_mean(StepContext &c, double *a) {
     return std::sqrt(a2[0]);
 }
 
-void FireMass::advance(StepContext &c) {
+void MassWeightedFire::advance(StepContext &c) {
     // FIRE with mass weighting (after Zhou, Moseler & Mueser, PRB 99, 144103 (2019)): each Fourier
     // mode has the inertia m(q) = max(k(q), k_c), so every mode stiffer than the contact spacing's
     // k_c oscillates with the same frequency.  The wall stays a real-space constraint, treated so

@@ -1,4 +1,4 @@
-#include "mass_fire.hpp"
+#include "approach_then_fire.hpp"
 
 #include <algorithm>
 
@@ -13,7 +13,7 @@ namespace gfmd {
 // it carries each point as far per step as in the approach's last (v dt the same; FIRE's first
 // step then adds its own force and mixing): times the approach's last step over FIRE's first
 // (FIRE was restarted with the approach, so its step is still its first).
-void MassThenFire::carry_over(StepContext &c) const {
+void ApproachThenFire::carry_over(StepContext &c) const {
     const double scale = mass_.step() / fire_.step();
     double *v = c.fields.v.data();
     c.grid.for_points([&](int64_t i0, int64_t i1) {
@@ -22,7 +22,7 @@ void MassThenFire::carry_over(StepContext &c) const {
     });
 }
 
-std::vector<double> MassThenFire::state() const {
+std::vector<double> ApproachThenFire::state() const {
     std::vector<double> s{static_cast<double>(taken_)};
     const std::vector<double> m = mass_.state(), f = fire_.state();
     s.insert(s.end(), m.begin(), m.end());
@@ -30,11 +30,11 @@ std::vector<double> MassThenFire::state() const {
     return s;
 }
 
-void MassThenFire::set_state(const std::vector<double> &s) {
-    // the mass-weighted part with or without its frequency estimates (FireMass::set_state)
+void ApproachThenFire::set_state(const std::vector<double> &s) {
+    // the mass-weighted part with or without its frequency estimates (MassWeightedFire::set_state)
     const std::size_t nf = fire_.state().size(), nm = s.size() - std::min(s.size(), 1 + nf);
     const std::size_t nc = FireControl().state().size();
-    if ((nm != nc && nm != nc + FireMass::kBuckets) || !valid_count(s[0]) || s[0] > static_cast<double>(kApproachSteps))
+    if ((nm != nc && nm != nc + MassWeightedFire::kBuckets) || !valid_count(s[0]) || s[0] > static_cast<double>(kApproachSteps))
         fail(GFMD_ERR_FORMAT, "invalid state of mass-weighted FIRE then FIRE");
     // FIRE's state is checked on a copy first (cheap; a copy of mass_ would copy its grid-sized
     // mask), so that a refused state leaves the solver as it was
