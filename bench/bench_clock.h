@@ -16,18 +16,6 @@ static inline double now(void) {
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
-/* Seconds per call of run(ctx), called again and again for at least half a second (the timing
- * programs' parts, each beside a bare FFT pair: pair_clock.h). */
-static inline double seconds_each(void (*run)(void *), void *ctx) {
-    int k = 0;
-    const double t0 = now();
-    do {
-        run(ctx);
-        k++;
-    } while (now() - t0 < 0.5);
-    return (now() - t0) / k;
-}
-
 /* Peak resident memory since the last reset, in bytes (Linux: VmHWM, reset via clear_refs).  The
  * heap freed so far is given back to the system first (glibc): else memory freed before the reset
  * but still resident would count in a base read after it, and the allocations it serves later
