@@ -9,11 +9,10 @@
 
 namespace gfmd {
 
-// Peak bytes per grid point of a handle, measured by gfmd_bench at 512^2 to 4096^2 (76-82 B/pt:
-// the fields below, the undo snapshot, the stiffness, and FFTW's planning scratch at creation;
-// docs/performance.md) while every buffer was written at allocation; since the grid buffers are
-// resident only once written (buffer.hpp) it prints 60.1-77.2 B/pt.  The memory guard keeps the old
-// upper end: a margin, not a measurement.
+// Peak bytes per grid point of a handle: the fields below, the undo snapshot, the stiffness, and
+// FFTW's planning scratch at creation.  The grid buffers are resident only once written
+// (buffer.hpp); gfmd_bench's B/pt column and test_api print the footprint.  The memory guard
+// counts 82 B/pt: a margin above those, not a measurement.
 constexpr double kPeakBytesPerPoint = 82.0;
 
 // Throws GFMD_ERR_NOMEM, before anything is allocated, if nx x ny points at bytes_per_point (a

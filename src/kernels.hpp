@@ -2,8 +2,7 @@
 // updates).  On x86-64 with GCC they are compiled twice, for the baseline (SSE2, namespace
 // kernels_base) and for x86-64-v3 (AVX2, kernels_v3); kernels::use() is the table of the build the
 // CPU runs, chosen once per process (the environment variable GFMD_KERNELS=baseline forces the
-// baseline).  The passes are memory- and instruction-bound (docs/performance.md, "Per-step cost:
-// the passes built for the CPU").
+// baseline).  The passes are memory- and instruction-bound (docs/decisions.md).
 //
 // Both builds give the same bits: kernels.cpp is compiled without floating-point contraction (no
 // FMA), and every sum is formed in kLanes fixed lanes (lane l takes the points l, l + kLanes, ... of

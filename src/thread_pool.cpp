@@ -17,7 +17,7 @@ namespace {
 
 // Polls before sleeping: each a sched_yield, so a waiting thread gives its core to whoever needs
 // it.  5000 (a few ms on a quiet core) bridge the gaps between the parallel loops of a step; 200
-// lost the quiet 1024^2 speed-up to wake-up latency (docs/performance.md).
+// lost the quiet 1024^2 speed-up to wake-up latency (docs/decisions.md).
 constexpr int kSpins = 5000;
 
 thread_local ThreadPool *current_pool = nullptr;  // the pool of the transform being executed

@@ -3,7 +3,7 @@
 // handed out one at a time, so a thread whose core is shared with another process simply takes
 // fewer of them; waiting threads spin briefly, yielding the core, then sleep.  OpenMP's default
 // barriers instead spin for long and split work evenly, which made two threads 2.5-3x slower than
-// one as soon as one core was busy (docs/performance.md, "Threads on a shared machine").
+// one as soon as one core was busy (docs/decisions.md).
 #ifndef GFMD_SRC_THREAD_POOL_HPP
 #define GFMD_SRC_THREAD_POOL_HPP
 

@@ -15,7 +15,7 @@
  * (gfmd_relax_multilevel); 1 = a flat start; default 4 from N = 2048 on, 1 below.
  * --approach STEPS: each relaxation (but a multilevel first load) starts with at most STEPS
  * mass-weighted FIRE steps, then continues with the chosen solver to the tolerance (mass weighting
- * approaches the equilibrium fast and then converges slowly; docs/performance.md).
+ * approaches the equilibrium fast and then converges slowly; docs/decisions.md).
  * --jobs J: J bodies at a time, each in its own thread with --threads threads (default 1 then);
  * the printed blocks keep the study's order and, with the same FFT plans (--planner estimate),
  * the numbers do not depend on J (bodies.c).  Default: as many bodies at a time as the machine has
@@ -170,7 +170,7 @@ static options parse_options(int argc, char **argv) {
      * W <= 0.25 took 0.45-0.76x the CG's from flat (W = 0.0625: 219.63 s against 485.68 s), the
      * half-space 0.52x FIRE's, most adhesive bodies 0.65-0.85x; slower on W = 100 (25.08 s against
      * 8.85 s), W = 1 (1.2x) and the adhesive W = 0.0625 (1.3x), far less in sum than the thin sheets
-     * gain.  At 512^2 the CG from flat is faster (8.82 s against 11.96 s, docs/performance.md), at
+     * gain.  At 512^2 the CG from flat is faster (8.82 s against 11.96 s, docs/decisions.md), at
      * 1024^2 the two are about even: hence the size. */
     if (o.levels == 0) o.levels = o.n >= 2048 ? 4 : 1;
     else if (o.levels < 1 || o.levels > 8) {

@@ -1,6 +1,6 @@
 // Mass-weighted FIRE as an approach, then FIRE: after each restart at most kApproachSteps steps of
 // mass-weighted FIRE (which nears the equilibrium of a soft body fast and then converges slowly),
-// then FIRE from where it got (docs/performance.md, "A thin sheet's first load").
+// then FIRE from where it got (docs/decisions.md).
 #ifndef GFMD_SRC_SOLVERS_APPROACH_THEN_FIRE_HPP
 #define GFMD_SRC_SOLVERS_APPROACH_THEN_FIRE_HPP
 
@@ -16,7 +16,7 @@ constexpr int64_t kApproachSteps = 100;
 // dynamics does: for its 100 steps the longer step nears the equilibrium faster, uphill restarts
 // notwithstanding.  Measured with the estimate (gfmd_paper, 256^2, one thread): the default's
 // adhesive sheets W = 0.25 ... 0.0625 took 54 705 steps against 46 211 with this step
-// (docs/performance.md, "Mass-weighted FIRE's step").
+// (docs/decisions.md).
 constexpr bool kApproachEstimates = false;
 
 class ApproachThenFire final : public Solver {

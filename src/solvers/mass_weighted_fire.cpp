@@ -11,7 +11,7 @@ namespace gfmd {
 
 namespace {
 // The mass floor is the stiffness at kMassSpacing times the wave vector of the contact points'
-// mean spacing (1 was best of 0.25 ... 4, docs/performance.md).
+// mean spacing (1 was best of 0.25 ... 4, docs/decisions.md).
 constexpr double kMassSpacing = 1.0;
 
 // Power iterations for the highest frequency of the masked dynamics (10: within 5-15 % of the
@@ -153,7 +153,7 @@ double MassWeightedFire::masked_lambda(StepContext &c) {
 // acceleration alone (in this metric, in the plain one, or the uniform mode of M^-1 F zeroed) was
 // not enough: FIRE's velocity carries a mean into the step whenever the held set changes, which
 // the projection after the step then takes out of every point; on thin sheets the run stalled far
-// from equilibrium (docs/performance.md, "Mass-weighted FIRE under displacement control").  At
+// from equilibrium (docs/decisions.md).  At
 // equilibrium a = 0 on the free points, so F = la there, and la = 0: the mean pressure makes the
 // free points' forces sum to zero (evaluate_forces).  Returns |a| (a in place of B F).
 double MassWeightedFire::hold_mean(StepContext &c, double *a) {
@@ -236,7 +236,7 @@ void MassWeightedFire::advance(StepContext &c) {
     // preconditioning, so that only the free points move, with the preconditioner restricted to
     // them (a principal block of M^-1, still positive definite).  Without the mask the wall's
     // held points are lifted by their neighbours' preconditioned pull and clamped back every
-    // step: the run bounces and never converges (measured; see docs/performance.md).
+    // step: the run bounces and never converges (measured; see docs/decisions.md).
     double *z = c.fields.z.data(), *v = c.fields.v.data(), *a = c.fields.f.data();
     const double *h = c.fields.h.data();
     unsigned char *held = held_.data();

@@ -1,5 +1,5 @@
 // FIRE with mass weighting: each Fourier mode's inertia from its stiffness, floored at the
-// stiffness of the contact spacing (docs/model.md, docs/performance.md).
+// stiffness of the contact spacing (docs/model.md, docs/decisions.md).
 #ifndef GFMD_SRC_SOLVERS_MASS_WEIGHTED_FIRE_HPP
 #define GFMD_SRC_SOLVERS_MASS_WEIGHTED_FIRE_HPP
 

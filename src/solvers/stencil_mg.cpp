@@ -29,7 +29,7 @@ inline bool forward(int dy, int dx) { return dy > 0 || (dy == 0 && dx >= 0); }
 inline int plane(int dy, int dx) { return dy == 0 ? dx : 3 + (dy - 1) * 5 + dx + 2; }  // forward offsets only
 constexpr int64_t kCoarsest = 16;  // the last level's side
 constexpr int kCoarsestSweeps = 40;
-constexpr int kSweeps = 1;  // V(1,1): measured against V(2,2) at 2048^2 (docs/performance.md)
+constexpr int kSweeps = 1;  // V(1,1): measured against V(2,2) at 2048^2 (docs/decisions.md)
 
 inline int64_t wrap(int64_t i, int64_t m) { return i & (m - 1); }  // m a power of 2
 

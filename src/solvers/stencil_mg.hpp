@@ -2,8 +2,7 @@
 // the active-set Newton method (newton.hpp).  A thin sheet's k(q) is nearly local: c0 L^2, the
 // 13-point biharmonic stencil (L the periodic 5-point -Laplacian) scaled to fit k(q), stands for it
 // within a factor of a few over all modes, and so does its block on the points the wall does not
-// hold for the stiffness' block there (docs/performance.md, "A real-space stencil for the sheet
-// between its contacts").  The levels:
+// hold for the stiffness' block there (docs/decisions.md).  The levels:
 //   fine grid    L^2 on the free points, the held points held at zero;
 //   coarse grids Galerkin operators P^T A P (bilinear P), 25 coefficients a point (13 stored: the
 //                operator is symmetric), down to 16^2,
