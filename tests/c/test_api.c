@@ -521,9 +521,9 @@ static void automatic_choice_large_grids(void **state) {
  * thicker layers (w = 64 a at 2048^2: f(q_min w) = 800; w = 16 a: 5.1e4 is CG's), by Persson's
  * A/A0 at the load: on the thin ones mass-weighted FIRE below 0.15/(q_max w), the approach then
  * FIRE below twice that (at most 0.15), FIRE above; on the thick ones CG below 0.04, FIRE above
- * (the rule of gfmd_set_solver(), measured in docs/paper/full.md and docs/performance.md).  On
- * smaller grids (128^2, 1024^2) the thin sheets choose as at 2048^2 (since 2026-11-28: measured
- * there too), the thicker layers CG either way.  The
+ * (the rule of src/solver_choice.hpp, measured as docs/decisions.md says).  On smaller grids
+ * (128^2, 1024^2) the thin sheets choose as at 2048^2 (measured there too), the thicker layers CG
+ * either way.  The
  * same for the finest grid of a multilevel start, which starts from an interpolated surface.  A
  * 2048^2 grid costs tens of seconds under valgrind: natively and under the sanitizers only, and
  * under these 128^2 and 1024^2 only (the same calls on fewer points; the whole test_api took
@@ -620,8 +620,7 @@ static void automatic_choice_when_continuing(void **state) {
             TS_OK(s, gfmd_set_pressure(s, load));
             TS_OK(s, gfmd_get_solver(s, &solver));
             const int thin = q_max * cases[c].width < 6.0 && longest_wave(n, cases[c].width) >= 1e6 && n * n >= thin_from;
-            /* since 2026-11-29 from 1024^2 on a thin sheet's loads at Persson's A/A0 < 0.45 (0.15
-             * before the Newton method's passes were vectorized) take the Newton method instead
+            /* from 1024^2 on a thin sheet's loads at Persson's A/A0 < 0.45 take the Newton method instead
              * (automatic_choice_newton has its bounds): the bounds above hold at 128^2 */
             const int newton = (thin || (n >= 2048 && q_max * cases[c].width < 6.0)) && n >= 1024 && cases[c].area < 0.45;
             assert_int_equal(solver, newton ? GFMD_SOLVER_NEWTON : (n >= 2048 || thin) ? cases[c].at_2048 : GFMD_SOLVER_CG);
@@ -634,8 +633,8 @@ static void automatic_choice_when_continuing(void **state) {
         /* A multilevel start: this grid starts from the coarse surface interpolated to it, a
          * deformed surface, and the default chooses for that start as for a load that continues.
          * A thin soft sheet (w = 0.2 a: f(q_min w) = 6.3e6 at 128^2) at Persson's A/A0 = 0.16
-         * (below its mass-weighted bound 0.169): mass-weighted FIRE on this grid at 128^2 (its flat
-         * start's CG before 2026-11-28), the Newton method at 1024^2 (below its bound 0.45); at
+         * (below its mass-weighted bound 0.169): mass-weighted FIRE on this grid at 128^2 (not its flat
+         * start's CG), the Newton method at 1024^2 (below its bound 0.45); at
          * 2048^2 unchanged, not repeated. */
         int64_t steps = 0, coarse = 0;
         double thin_load = 0.0;
@@ -735,9 +734,8 @@ static int32_t thin_continuing_choice(int64_t n, double lambda_s, double width) 
     return thin_continuing_choice_at(n, lambda_s, width, 0.01);
 }
 
-/* Since 2026-11-29 a thin sheet's load from a deformed surface (here W = 0.088, w = 0.352 a, q_max w
- * = 1.6) takes the Newton method from 1024^2 on while Persson's A/A0 < 0.45 (0.15 until its passes
- * were vectorized), the thin sheets' choice above that and on smaller grids, with adhesion too
+/* A thin sheet's load from a deformed surface (here W = 0.088, w = 0.352 a, q_max w
+ * = 1.6) takes the Newton method from 1024^2 on while Persson's A/A0 < 0.45, the thin sheets' choice above that and on smaller grids, with adhesion too
  * (docs/performance.md, "The Newton method at the higher loads"; test_newton has the method
  * itself). */
 static void automatic_choice_newton(void **state) {
@@ -890,7 +888,7 @@ static void memory_per_point(void **state) {
      * Newton method's four and its cycle's five floats on the fine grid: a measurement that saw
      * nothing fails */
     const double at_least[6] = {48.0, 48.0, 48.0, 48.0, 64.0, 100.0};
-    /* at most the 80 above; the Newton method (since 2026-11-29 the default on thin sheets' lower
+    /* at most the 80 above; the Newton method (the default on thin sheets' lower
      * continuing loads from 1024^2 on) its own 80 more, as gfmd.h says (88 until its coarse
      * operators kept 13 of their 25 coefficients, 72 until its fourth field, the adhesive weights):
      * its four fields, the held set and the multigrid levels (a fine grid of floats and coarse
