@@ -317,8 +317,8 @@ ChoiceFeatures Simulation::choice_features() const {
     f.points = static_cast<double>(grid_.real_size());
     f.softness = long_wave_softness(grid_, body_, params_.e_star);
     f.longest_wave = longest_wave_softness(grid_, body_, params_.e_star);
-    f.flat = surface_flat();
-    if (params_.kind == GFMD_GREEN_LAYER_FLUID) {
+    if (params_.kind == GFMD_GREEN_LAYER_FLUID) {  // what only the fluid layers' rules read
+        f.flat = surface_flat();
         f.grid_thickness = shortest_wave_q(grid_) * params_.width;
         f.rough_thickness = roughness_thickness();
         f.newton_grid = *newton_grid_refusal(grid_) == '\0';

@@ -19,7 +19,7 @@ struct ChoiceFeatures {
     double rough_thickness = 0.0;    // 2 sqrt(2) q_s w: the width against the substrate's shortest wave
     double persson_area = 0.0;       // Persson's A/A0 at sigma0 (pressure control; 0 without load)
     double overlap = 0.0;            // displacement control: the fraction of h above the mean position
-    bool flat = true;                // the surface is flat (no load carried yet: a first load)
+    bool flat = true;                // the surface is flat (no load carried yet: a first load; fluid layers)
     bool newton_grid = false;        // the Newton method takes this grid (square, power of 2, one rank)
 };
 
