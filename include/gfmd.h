@@ -405,6 +405,69 @@ GFMD_API int32_t gfmd_get_surface(const gfmd_sim *s, double *z);
  */
 GFMD_API int32_t gfmd_get_pressure(const gfmd_sim *s, double *p);
 
+/* ---------------------------------------------------------------- how the contact is made */
+
+/**
+ * Connected-component labelling of a set of grid points: the points with mask[i] != 0 on an
+ * nx x ny grid (x fastest).  labels[i] receives 0 outside the set and 1..npatches inside,
+ * numbered in the order of each patch's first point (index ix + nx*iy ascending): the labels are
+ * a function of the set alone.  @p connectivity 4 joins points that share an edge, 8 also the
+ * diagonal neighbours; @p periodic nonzero wraps the grid around in both directions (a patch
+ * across the border is one patch).  A pure function of its arguments, no handle.
+ * @return GFMD_ERR_NULL for a NULL mask, labels or npatches; GFMD_ERR_INVALID_ARG for nx, ny < 1
+ *         or a connectivity other than 4 and 8; GFMD_ERR_NOMEM if the search does not fit.
+ */
+GFMD_API int32_t gfmd_label_patches(int64_t nx, int64_t ny, const int32_t *mask, int32_t connectivity,
+                                    int32_t periodic, int64_t *labels, int64_t *npatches);
+
+/**
+ * The contact patches of the current configuration: gfmd_label_patches() of the points in contact
+ * (zero gap, those gfmd_get_contact_area() counts), periodic.  @p labels (nx*ny) may be NULL to
+ * count only.  Whole-grid: refused on a handle distributed over several ranks.
+ */
+GFMD_API int32_t gfmd_get_contact_patches(const gfmd_sim *s, int32_t connectivity, int64_t *labels,
+                                          int64_t *npatches);
+
+/**
+ * One property (GFMD_PATCH_*) of every contact patch, in label order (values[k] for label k+1):
+ * points, area, edge count (the lattice perimeter: edges between a patch point and an edge
+ * neighbour out of contact), perimeter (the edges' length times pi/4, the mean ratio of a randomly
+ * oriented curve's length to its staircase's on a square grid), centroid x / y (the mean of the
+ * patch's positions unwrapped across the periodic border, folded into [0, lx) x [0, ly); a patch
+ * that wraps around the whole cell gets the mean of one unwrapping, from its first point), load
+ * (the pressure of gfmd_get_pressure() summed over the patch, times the area per point).
+ * @p values has room for @p capacity patches (NULL with capacity 0 to count only).
+ * @param npatches receives the number of patches.
+ * @return GFMD_ERR_TRUNCATED if npatches > capacity (the first capacity values written).
+ */
+GFMD_API int32_t gfmd_get_patch_property(const gfmd_sim *s, int32_t connectivity, int32_t property, int64_t capacity,
+                                         double *values, int64_t *npatches);
+
+/**
+ * The distribution of the contact pressure: the points in contact binned by their pressure
+ * (gfmd_get_pressure()) into @p nbins equal bins on [range[0], range[1]] (pressures beyond it in
+ * the end bins).  fraction[b] = the bin's points / (nx ny), mean[b] = the mean pressure of its
+ * points (0 for an empty bin): sum fraction = A/A0 and sum fraction[b] mean[b] = the mean of the
+ * pressure over the contact, which equals sigma0 at equilibrium without adhesion.  The density
+ * of P(p) is fraction[b] / bin width.
+ * @param range in: [lo, hi], finite with lo < hi, or {0, 0} for the contact's own range; out: the
+ *        range used.
+ */
+GFMD_API int32_t gfmd_get_pressure_histogram(const gfmd_sim *s, int64_t nbins, double *range, double *fraction,
+                                             double *mean);
+
+/**
+ * Persson's distribution of the contact pressure at external pressure @p sigma0, per unit area
+ * of the cell (J. Chem. Phys. 115, 3840 (2001), the diffusion in p with the absorbing boundary
+ * P(0) = 0 of the non-adhesive contact): P(p) = N(p - sigma0) - N(p + sigma0) for p >= 0, 0 below,
+ * N the normal density of variance V (gfmd_persson_variance(), the handle's body).  It integrates
+ * to gfmd_persson_contact_area(sigma0) and its first moment is sigma0.  Evaluated at the @p n
+ * pressures @p p into @p density.
+ * @param sigma0 finite and >= 0; p finite.
+ */
+GFMD_API int32_t gfmd_persson_pressure_distribution(const gfmd_sim *s, double sigma0, int64_t n, const double *p,
+                                                    double *density);
+
 /* ---------------------------------------------------------------- theory and analysis */
 
 /**

@@ -1,5 +1,7 @@
 // The C ABI: check arguments, call the core, turn every exception into a status plus message.
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -7,12 +9,14 @@
 #include <new>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "c_api_support.hpp"
 #include "error.hpp"
 #include "gfmd.h"
 #include "green.hpp"
 #include "least_squares.hpp"
+#include "patches.hpp"
 #include "simulation.hpp"
 
 namespace {
@@ -41,6 +45,16 @@ void relax_call(gfmd::Simulation &m, double tol, int64_t max_steps, int64_t *ste
                       static_cast<long long>(taken), m.forces().residual, t);
         fail(GFMD_ERR_NOT_CONVERGED, buf);
     }
+}
+
+// The contact patches of a handle's configuration (whole grid), labels into `labels` (nx*ny).
+gfmd::Patches handle_patches(const gfmd::Simulation &m, int32_t connectivity, int64_t *labels) {
+    gfmd::check_connectivity(connectivity);
+    whole_grid(m, "gfmd_get_contact_area (patches need the whole grid)");
+    const auto n = static_cast<std::size_t>(m.grid().real_size());
+    std::vector<unsigned char> in(n);
+    m.contact_set(in.data());
+    return gfmd::label_patches(m.grid().nx(), m.grid().ny(), in.data(), connectivity, true, labels);
 }
 
 }  // namespace
@@ -358,6 +372,93 @@ int32_t gfmd_get_pressure(const gfmd_sim *s, double *p) {
         need(p, "p");
         whole_grid(m, "gfmd_mpi_get_local_pressure");
         m.pressure(p);
+    });
+}
+
+int32_t gfmd_label_patches(int64_t nx, int64_t ny, const int32_t *mask, int32_t connectivity, int32_t periodic,
+                           int64_t *labels, int64_t *npatches) {
+    if (mask == nullptr || labels == nullptr || npatches == nullptr) return GFMD_ERR_NULL;
+    return status_of([&] {
+        if (nx < 1 || ny < 1 || nx > INT64_MAX / ny)
+            fail(GFMD_ERR_INVALID_ARG, "nx and ny must be >= 1 (and their product an int64_t)");
+        gfmd::check_connectivity(connectivity);
+        const auto n = static_cast<std::size_t>(nx * ny);
+        std::vector<unsigned char> in(n);
+        for (std::size_t i = 0; i < n; ++i) in[i] = mask[i] != 0 ? 1 : 0;
+        *npatches = gfmd::label_patches(nx, ny, in.data(), connectivity, periodic != 0, labels).count;
+    });
+}
+
+int32_t gfmd_get_contact_patches(const gfmd_sim *s, int32_t connectivity, int64_t *labels, int64_t *npatches) {
+    return guarded(s, args(connectivity, labels, npatches), [&](const gfmd::Simulation &m) {
+        need(npatches, "npatches");
+        // labels written only once the call cannot fail
+        std::vector<int64_t> out(static_cast<std::size_t>(m.grid().local_points()));
+        const gfmd::Patches p = handle_patches(m, connectivity, out.data());
+        if (labels != nullptr) std::copy(out.begin(), out.end(), labels);
+        *npatches = p.count;
+    });
+}
+
+int32_t gfmd_get_patch_property(const gfmd_sim *s, int32_t connectivity, int32_t property, int64_t capacity,
+                                double *values, int64_t *npatches) {
+    return guarded(s, args(connectivity, property, capacity, values, npatches), [&](const gfmd::Simulation &m) {
+        need(npatches, "npatches");
+        if (capacity < 0) fail(GFMD_ERR_INVALID_ARG, "capacity must be >= 0, got " + std::to_string(capacity));
+        if (capacity > 0) need(values, "values");
+        const gfmd::FftGrid &g = m.grid();
+        std::vector<int64_t> labels(static_cast<std::size_t>(g.local_points()));
+        const gfmd::Patches p = handle_patches(m, connectivity, labels.data());
+        std::vector<double> pressure;
+        if (property == GFMD_PATCH_LOAD) {
+            pressure.resize(labels.size());
+            m.pressure(pressure.data());
+        }
+        const std::vector<double> v = gfmd::patch_values(p, property, g.nx(), g.ny(), g.lx(), g.ly(), labels.data(),
+                                                         pressure.data());
+        const std::size_t written = std::min(v.size(), static_cast<std::size_t>(capacity));
+        std::copy(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(written), values);
+        *npatches = p.count;
+        if (p.count > capacity)
+            fail(GFMD_ERR_TRUNCATED, std::to_string(p.count) + " patches, room for " + std::to_string(capacity));
+    });
+}
+
+int32_t gfmd_get_pressure_histogram(const gfmd_sim *s, int64_t nbins, double *range, double *fraction,
+                                    double *mean) {
+    return guarded(s, args(nbins, range, fraction, mean), [&](const gfmd::Simulation &m) {
+        need(range, "range");
+        need(fraction, "fraction");
+        need(mean, "mean");
+        whole_grid(m, "gfmd_mpi_get_local_pressure");
+        if (nbins < 1) fail(GFMD_ERR_INVALID_ARG, "nbins must be >= 1, got " + std::to_string(nbins));
+        const auto n = static_cast<std::size_t>(m.grid().real_size());
+        std::vector<unsigned char> in(n);
+        std::vector<double> p(n), fr(static_cast<std::size_t>(nbins)), me(static_cast<std::size_t>(nbins));
+        m.contact_set(in.data());
+        m.pressure(p.data());
+        double lo = range[0], hi = range[1];
+        gfmd::pressure_histogram(static_cast<int64_t>(n), in.data(), p.data(), nbins, lo, hi, fr.data(), me.data());
+        std::copy(fr.begin(), fr.end(), fraction);
+        std::copy(me.begin(), me.end(), mean);
+        range[0] = lo;
+        range[1] = hi;
+    });
+}
+
+int32_t gfmd_persson_pressure_distribution(const gfmd_sim *s, double sigma0, int64_t n, const double *p,
+                                           double *density) {
+    return guarded(s, args(sigma0, n, p, density), [&](const gfmd::Simulation &m) {
+        if (n < 0) fail(GFMD_ERR_INVALID_ARG, "n must be >= 0, got " + std::to_string(n));
+        if (n > 0) {
+            need(p, "p");
+            need(density, "density");
+        }
+        for (int64_t i = 0; i < n; ++i)
+            if (!std::isfinite(p[i])) fail(GFMD_ERR_INVALID_ARG, "p[" + std::to_string(i) + "] is not finite");
+        const double v = m.persson_variance();
+        (void)m.persson_contact_area(sigma0);  // checks sigma0
+        for (int64_t i = 0; i < n; ++i) density[i] = gfmd::persson_pressure_density(v, sigma0, p[i]);
     });
 }
 

@@ -436,6 +436,9 @@ void Simulation::heights(double *out) const { std::copy(fields_.h.data(), fields
 void Simulation::gap(double *out) const { gfmd::gap(fields_, out); }
 void Simulation::surface(double *out) const { std::copy(fields_.z.data(), fields_.z.data() + fields_.z.size(), out); }
 void Simulation::pressure(double *out) const { gfmd::pressure(params_, fields_, out); }
+void Simulation::contact_set(unsigned char *out) const {
+    for (std::size_t i = 0; i < fields_.z.size(); ++i) out[i] = fields_.z[i] <= fields_.h[i] ? 1 : 0;
+}
 double Simulation::persson_variance() const {
     if (!persson_v_) persson_v_ = gfmd::persson_variance(grid_, body_, fields_);
     return *persson_v_;

@@ -86,6 +86,7 @@ public:
     void gap(double *out) const;
     void surface(double *out) const;
     void pressure(double *out) const;
+    void contact_set(unsigned char *out) const;  // 1 where the gap is zero (the points counted in contact)
     double persson_variance() const;
     double persson_contact_area(double sigma0) const;
     double persson_load(double rel_area) const;
