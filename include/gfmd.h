@@ -405,6 +405,38 @@ GFMD_API int32_t gfmd_get_surface(const gfmd_sim *s, double *z);
  */
 GFMD_API int32_t gfmd_get_pressure(const gfmd_sim *s, double *p);
 
+/* ---------------------------------------------------------------- plasticity */
+
+/**
+ * Perfect plasticity of the substrate at hardness @p hardness (docs/model.md, "Plasticity"): the
+ * contact pressure never exceeds H; where the body would press harder the substrate yields and its
+ * height is lowered to the body's surface, for good.  A load step (the relaxation at one load) is
+ * the minimum of U_el - (work of the load) + H V, V the volume by which the body's surface lies
+ * below the substrate as the step began; each change of load (gfmd_set_pressure(),
+ * gfmd_set_mean_displacement()) and gfmd_reset() begin a new step from the substrate as it is then,
+ * so loading and unloading in steps leave the plastic deformation in place.  gfmd_get_heights()
+ * returns the substrate as deformed now; a new substrate (gfmd_set_heights(),
+ * gfmd_generate_selfaffine()) starts without deformation.  A change of a finite H ends the step
+ * made at the old one.  @p hardness = +INFINITY (the default) switches plasticity off; the
+ * substrate keeps the shape it has.  Steps with FIRE or Verlet; GFMD_SOLVER_AUTO takes FIRE.
+ * Kept by checkpoints.  Needs 16 B/pt more.
+ * @return GFMD_ERR_INVALID_ARG for hardness <= 0 or NaN; GFMD_ERR_STATE with adhesion, with a
+ *         solver other than FIRE, Verlet and AUTO, or on a handle distributed over several ranks;
+ *         GFMD_ERR_NOMEM if the plastic state does not fit.
+ */
+GFMD_API int32_t gfmd_set_hardness(gfmd_sim *s, double hardness);
+
+/** The hardness (+INFINITY without plasticity). */
+GFMD_API int32_t gfmd_get_hardness(const gfmd_sim *s, double *hardness);
+
+/**
+ * The plastic state: @p plastic_area receives the fraction of the points yielding now (at the
+ * hardness: their pressure is H), @p plastic_volume the volume the substrate has lost to plastic
+ * flow since it was set (the sum of the original minus the current heights times the area per
+ * point).  Both 0 without hardness.  Either pointer may be NULL.
+ */
+GFMD_API int32_t gfmd_get_plasticity(const gfmd_sim *s, double *plastic_area, double *plastic_volume);
+
 /* ---------------------------------------------------------------- how the contact is made */
 
 /**

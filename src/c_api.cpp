@@ -375,6 +375,24 @@ int32_t gfmd_get_pressure(const gfmd_sim *s, double *p) {
     });
 }
 
+int32_t gfmd_set_hardness(gfmd_sim *s, double hardness) {
+    return guarded(s, args(hardness), [&](gfmd::Simulation &m) { m.set_hardness(hardness); });
+}
+
+int32_t gfmd_get_hardness(const gfmd_sim *s, double *hardness) {
+    return guarded(s, args(hardness), [&](const gfmd::Simulation &m) {
+        need(hardness, "hardness");
+        *hardness = m.hardness();
+    });
+}
+
+int32_t gfmd_get_plasticity(const gfmd_sim *s, double *plastic_area, double *plastic_volume) {
+    return guarded(s, args(plastic_area, plastic_volume), [&](const gfmd::Simulation &m) {
+        if (plastic_area != nullptr) *plastic_area = m.plastic_area();
+        if (plastic_volume != nullptr) *plastic_volume = m.plastic_volume();
+    });
+}
+
 int32_t gfmd_label_patches(int64_t nx, int64_t ny, const int32_t *mask, int32_t connectivity, int32_t periodic,
                            int64_t *labels, int64_t *npatches) {
     if (mask == nullptr || labels == nullptr || npatches == nullptr) return GFMD_ERR_NULL;

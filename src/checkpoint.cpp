@@ -1,22 +1,24 @@
 // Checkpoint and restart: a simulation's complete state in a portable, versioned binary file.
 //
-// Format version 5, every number little-endian whatever the machine:
+// Format version 6, every number little-endian whatever the machine:
 //   "GFMDCKPT"                      8 bytes, magic
-//   u32 version = 5, u32 flags = 0 (no flags are defined: others are refused)
+//   u32 version = 6, u32 flags = 0 (no flags are defined: others are refused)
 //   i64 nx, ny; f64 lx, ly
 //   the parameters in the order of GFMD_PARAMS_LIST (params.hpp): f64 e_star; i32 kind;
-//     f64 width, nu, sigma0, gamma0, rho, dt_user, eta_user; i32 solver; i32 control; f64 mean_z
+//     f64 width, nu, sigma0, gamma0, rho, dt_user, eta_user; i32 solver; i32 control; f64 mean_z;
+//     f64 hardness
 //   i32 threads (informative; not restored), planner
 //   i32 active                          (the solver that steps: AUTO's choice, or the solver set)
 //   u32 count, f64 solver_state[count]  (the solver's adaptive state: FIRE's dt, alpha, count)
 //   u32 k                               (grid-sized fields of the solver's state: CG's pressure)
+//   u32 m, f64 plastic_volume           (m = 1 with a finite hardness: the load step's substrate)
 //   f64 h[nx*ny], z[nx*ny], v[nx*ny]    (x fastest)
-//   f64 field[k][nx*ny]
-//   u64 row_hash[3 + k][ny]             FNV-1a of each row's 8 nx bytes, field by field
+//   f64 field[k][nx*ny], f64 substrate[m][nx*ny]
+//   u64 row_hash[3 + k + m][ny]         FNV-1a of each row's 8 nx bytes, field by field
 //   u64 FNV-1a hash of the header (every byte before the fields) and then of the row hashes
 // The row hashes let every rank of a distributed grid check and hash its own rows: the table and
 // the file do not depend on how many ranks wrote it, and any number of ranks (or the serial
-// library) reads it.  Version 4 (read, not written) had no active solver and no row hashes: its
+// library) reads it.  Version 5 had no hardness, m and plastic volume.  Version 4 (read, not written) had no active solver and no row hashes: its
 // last 8 bytes hash every byte before them; with solver = AUTO, k > 0 says AUTO had chosen CG
 // (its only choices then were CG and FIRE).  Version 3 also had no k and no solver fields.  Version 2 had no control and
 // mean_z (pressure control).  Version 1 also had f64 fire_dt, fire_alpha; i64 fire_positive in
@@ -44,7 +46,7 @@ namespace gfmd {
 namespace {
 
 constexpr char kMagic[8] = {'G', 'F', 'M', 'D', 'C', 'K', 'P', 'T'};
-constexpr uint32_t kVersion = 5;
+constexpr uint32_t kVersion = 6;
 constexpr uint32_t kMaxSolverFields = 4;  // grid-sized fields of a solver's state; more is a corrupted file
 constexpr uint32_t kMaxSolverState = 64;  // numbers of a solver's state; more is a corrupted file
 constexpr std::size_t kMaxHeader = 4096;  // no header of any version is longer
@@ -142,6 +144,8 @@ struct Header {
     int32_t active = -1;  // format 5; -1 before
     std::vector<double> state;
     uint32_t solver_fields = 0;
+    uint32_t plastic_fields = 0;  // format 6
+    double plastic_volume = 0.0;
     std::size_t length = 0;  // bytes before the fields
 };
 
@@ -184,6 +188,13 @@ Header parse_header(const unsigned char *b, std::size_t n, const std::string &p)
     }
     hd.solver_fields = (hd.version >= 4) ? r.u32() : 0;
     if (hd.solver_fields > kMaxSolverFields) fail(GFMD_ERR_FORMAT, "'" + p + "' holds an impossible solver state: corrupted");
+    if (hd.version >= 6) {
+        hd.plastic_fields = r.u32();
+        hd.plastic_volume = r.f64();
+        if (hd.plastic_fields > 1 || !(hd.params.hardness > 0.0) || (hd.plastic_fields == 1) != std::isfinite(hd.params.hardness) ||
+            !(hd.plastic_volume >= 0.0) || !std::isfinite(hd.plastic_volume))
+            fail(GFMD_ERR_FORMAT, "'" + p + "' holds an impossible plastic state: corrupted");
+    }
     hd.length = r.position();
     return hd;
 }
@@ -286,6 +297,9 @@ void Simulation::save(const char *path) const {
     std::vector<const double *> fields = {fields_.h.data(), fields_.z.data(), fields_.v.data()};
     for (const RealBuffer *f : solver_->grid_state()) fields.push_back(f->data());
     w.u32(static_cast<uint32_t>(fields.size() - 3));
+    w.u32(plastic_ ? 1 : 0);
+    w.f64(plastic_ ? plastic_->committed_volume : 0.0);
+    if (plastic_) fields.push_back(plastic_->substrate.data());
 
     // Written to "<path>.tmp" and renamed: a crash while saving never leaves a damaged checkpoint
     // under the final name, and a failed save leaves no temporary file behind.
@@ -316,7 +330,7 @@ std::unique_ptr<Simulation> Simulation::load(const char *path, const Distributio
     file->read(0, head.data(), head.size());
     const Header hd = parse_header(head.data(), head.size(), p);
     const int64_t nx = hd.nx, ny = hd.ny;
-    const std::size_t nfields = 3 + hd.solver_fields;
+    const std::size_t nfields = 3 + hd.solver_fields + hd.plastic_fields;
     // The length the header implies, checked before anything is allocated or planned: a small
     // or damaged file that claims a huge grid is refused at once.
     const double field_bytes = 8.0 * static_cast<double>(nx) * static_cast<double>(ny);
@@ -345,6 +359,8 @@ std::unique_ptr<Simulation> Simulation::load(const char *path, const Distributio
         extra.emplace_back(static_cast<std::size_t>(g.local_points()));
         targets.push_back(extra.back().data());
     }
+    RealBuffer substrate(hd.plastic_fields > 0 ? static_cast<std::size_t>(g.local_points()) : 0);
+    if (hd.plastic_fields > 0) targets.push_back(substrate.data());
     std::vector<unsigned char> bytes(static_cast<std::size_t>(8 * nx * rows));
     std::vector<uint64_t> mine(nfields * static_cast<std::size_t>(rows));
     for (std::size_t k = 0; k < nfields; ++k) {
@@ -423,6 +439,14 @@ std::unique_ptr<Simulation> Simulation::load(const char *path, const Distributio
             s->params_.solver = GFMD_SOLVER_AUTO;
         } else if (hd.version >= 5 && hd.active != params.solver) {
             fail(GFMD_ERR_INVALID_ARG, "the solver that steps is not the solver set");
+        }
+        if (std::isfinite(params.hardness)) {
+            s->set_hardness(params.hardness);
+            for (int64_t i = 0; i < n; ++i)
+                if (!std::isfinite(substrate[i]) || substrate[i] < fl.h[i] || std::fabs(substrate[i]) > kMaxHeight)
+                    fail(GFMD_ERR_FORMAT, "invalid plastic substrate");
+            std::swap(s->plastic_->substrate, substrate);
+            s->plastic_->committed_volume = hd.plastic_volume;
         }
         s->solver_->set_state(hd.state);
         s->solver_->set_grid_state(std::move(extra));

@@ -9,6 +9,16 @@
 
 namespace gfmd {
 
+double residual_scale(const Params &p, double sigma0) {
+    double ref = std::fabs(sigma0) + ((p.gamma0 > 0.0) ? p.gamma0 / p.rho : 0.0);
+    // Under displacement control the pressure is an outcome and may pass through zero (a body that
+    // barely touches, or has come off): a floor of 1e-8 E* keeps the relative residual meaningful
+    // where the forces are at the level of the transforms' rounding (about 1e-16 E* per unit slope).
+    if (p.control == kDisplacementControl) ref += kDisplacementStressFloor * p.e_star;
+    if (ref <= 0.0) ref = p.e_star;
+    return ref;
+}
+
 ForceState evaluate_forces(const FftGrid &grid, const Params &p, const Body &body, Fields &fields) {
     ForceState out;
     // Elastic stress in Fourier space: sigma(q) = -u(q)/G(q); U_el = (A/2) sum_q |u(q)|^2/G(q)
@@ -59,13 +69,7 @@ ForceState evaluate_forces(const FftGrid &grid, const Params &p, const Body &bod
         }
     }
     out.mean_pressure = sigma0;
-    double ref = std::fabs(sigma0) + adh_coef;
-    // Under displacement control the pressure is an outcome and may pass through zero (a body that
-    // barely touches, or has come off): a floor of 1e-8 E* keeps the relative residual meaningful
-    // where the forces are at the level of the transforms' rounding (about 1e-16 E* per unit slope).
-    if (p.control == kDisplacementControl) ref += kDisplacementStressFloor * p.e_star;
-    if (ref <= 0.0) ref = p.e_star;
-    const double inv_ref = 1.0 / ref;
+    const double inv_ref = 1.0 / residual_scale(p, sigma0);
     const auto sums = grid.sum_points<6>([&](int64_t i0, int64_t i1, double *acc) {
         const kernels::Completion in{fields.z.data() + i0, fields.h.data() + i0, fields.v.data() + i0, sigma0,
                                      adh_coef, inv_rho, inv_ref};

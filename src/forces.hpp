@@ -25,6 +25,10 @@ struct ForceState {
 
 constexpr double kDisplacementStressFloor = 1e-8;  // see evaluate_forces()
 
+// The stress the residual is relative to: |sigma0| + gamma0/rho (+ a floor under displacement
+// control), E* where that is zero.
+double residual_scale(const Params &p, double sigma0);
+
 // Writes the force per area on z into fields.f (fields.work is scratch) and returns the sums.
 // Under displacement control the uniform pressure is not given but the Lagrange multiplier of
 // mean(z) = mean_z: the mean over the points out of contact of the elastic and adhesive stress

@@ -65,6 +65,9 @@ std::unique_ptr<Simulation> Simulation::coarsened() {
 bool Simulation::relax_multilevel(double tol, int64_t max_steps, int levels, int64_t &steps_taken,
                                   int64_t &coarse_steps) {
     if (levels < 1) fail(GFMD_ERR_INVALID_ARG, "levels must be >= 1, got " + std::to_string(levels));
+    if (levels > 1 && plastic_)
+        fail(GFMD_ERR_STATE, "the multilevel start does not take a hardness (a coarse grid cannot yield as the fine one); "
+                             "use gfmd_relax or levels = 1");
     const int64_t factor = int64_t{1} << std::min(levels - 1, 40);
     // levels = 1 is relax() on any grid (no coarse grid to fit: a 64 x 6 grid was refused)
     const bool fits = levels <= 41 && grid_.nx() % factor == 0 && grid_.ny() % factor == 0 &&

@@ -45,6 +45,12 @@ RealBuffer copy_of(const RealBuffer &from) {
 // preconditioned nor are its steps checked against the energy, so it does not take adhesion there.
 bool cg_takes(const Params &p) { return !(p.gamma0 > 0.0) || p.control == kPressureControl; }
 
+// The solvers that step with the yielding wall of plasticity.hpp: those that see the wall only
+// through fields.h and the force only through fields.f and the sums of the force evaluation.
+bool takes_plasticity(int32_t solver) {
+    return solver == GFMD_SOLVER_FIRE || solver == GFMD_SOLVER_VERLET || solver == GFMD_SOLVER_AUTO;
+}
+
 // GFMD_ERR_STATE if the solver set (or kept) by the caller would run p and cannot: GFMD_SOLVER_CG,
 // or GFMD_SOLVER_NEWTON (newton.hpp: a thin sheet without adhesion under pressure control, on a
 // grid its cycle takes).
@@ -53,6 +59,9 @@ void require_solver_takes(const FftGrid &grid, const Params &p, int32_t solver) 
         fail(GFMD_ERR_STATE,
              "the CG solver takes adhesion under pressure control only; under displacement control with "
              "adhesion choose GFMD_SOLVER_FIRE, GFMD_SOLVER_MASS_WEIGHTED_FIRE, GFMD_SOLVER_VERLET or GFMD_SOLVER_AUTO");
+    if (std::isfinite(p.hardness) && !takes_plasticity(solver))
+        fail(GFMD_ERR_STATE, "with a hardness (plasticity) the solver must be GFMD_SOLVER_FIRE, GFMD_SOLVER_VERLET or "
+                             "GFMD_SOLVER_AUTO (which takes FIRE); switch the hardness off (+infinity) first");
     if (solver == GFMD_SOLVER_NEWTON) {
         const std::string why = newton_refusal(grid, p);
         if (!why.empty()) fail(GFMD_ERR_STATE, why + "; choose another solver or GFMD_SOLVER_AUTO");
@@ -88,11 +97,22 @@ std::unique_ptr<Simulation> Simulation::clone() const {
     c->fields_.v = copy_of(fields_.v);
     c->active_solver_ = active_solver_;
     c->solver_ = solver_->clone();
+    if (plastic_) c->plastic_ = std::make_unique<Plasticity>(*plastic_);
     c->refresh_forces();
     return c;
 }
 
-void Simulation::refresh_forces() { forces_ = evaluate_forces(grid_, params_, body_, fields_); }
+void Simulation::refresh_forces() {
+    if (plastic_) settle(grid_, *plastic_, fields_);
+    forces_ = evaluate_forces(grid_, params_, body_, fields_);
+    if (plastic_) yield(grid_, params_, *plastic_, fields_, forces_);
+}
+
+void Simulation::commit_plastic_step() {
+    if (!plastic_) return;
+    commit(grid_, *plastic_, fields_);
+    refresh_forces();
+}
 
 // Applies a change, then checks that the forces and energies of the new state are finite; if
 // they overflow (extreme but individually valid values, e.g. E* = 1e300 with unit heights), the
@@ -179,11 +199,21 @@ void Simulation::set_poisson(double nu) {
 // if the new state overflows.
 void Simulation::change_substrate(RealBuffer &&h) {
     if (params_.control == kDisplacementControl) check_mean_displacement(params_.mean_z, h.data());
+    // with hardness the new substrate is also the new step's (8 B/pt more for this call)
+    RealBuffer hs(plastic_ ? h.size() : 0);
+    std::copy(h.data(), h.data() + hs.size(), hs.data());
+    double volume = 0.0;
+    const auto swap_plastic = [&] {
+        if (!plastic_) return;
+        std::swap(plastic_->substrate, hs);
+        std::swap(plastic_->committed_volume, volume);
+    };
     undo_.save(fields_);
     change(
         "this substrate",
         [&] {
             std::swap(fields_.h, h);
+            swap_plastic();
             persson_v_.reset();
             substrate_q_.reset();
             fields_.put_flat_at_rest(grid_);
@@ -191,6 +221,7 @@ void Simulation::change_substrate(RealBuffer &&h) {
         },
         [&] {
             std::swap(fields_.h, h);
+            swap_plastic();
             persson_v_.reset();
             substrate_q_.reset();
             undo_.restore(fields_);
@@ -227,7 +258,7 @@ void Simulation::set_pressure(double sigma0) {
             params_.sigma0 = sigma0;
             params_.control = kPressureControl;
         },
-        [&] { params_ = old; });
+        [&] { params_ = old; });    commit_plastic_step();
 }
 
 void Simulation::check_mean_displacement(double d, const double *h) const {
@@ -259,7 +290,7 @@ void Simulation::set_mean_displacement(double d) {
         [&] {
             params_ = old;
             undo_.restore(fields_);
-        });
+        });    commit_plastic_step();
 }
 
 double Simulation::mean_displacement() const { return grid_.mean(fields_.z.data()); }
@@ -271,6 +302,8 @@ void Simulation::set_adhesion(double gamma0, double rho) {
     if (rho <= 0.0) fail(GFMD_ERR_INVALID_ARG, "rho must be > 0, got " + num(rho));
     if (!std::isfinite(gamma0 / (rho * rho)) || !std::isfinite(gamma0 / rho))
         fail(GFMD_ERR_RANGE, "the adhesive stiffness gamma0/rho^2 overflows");
+    if (gamma0 > 0.0 && plastic_)
+        fail(GFMD_ERR_STATE, "adhesion with a hardness (plasticity) is not supported: switch the hardness off first");
     Params asked = params_;
     asked.gamma0 = gamma0;
     require_solver_takes(grid_, asked, params_.solver);
@@ -288,6 +321,50 @@ void Simulation::set_adhesion(double gamma0, double rho) {
             dynamics_ = old_dynamics;
         });
 }
+
+void Simulation::set_hardness(double hardness) {
+    if (!(hardness > 0.0))
+        fail(GFMD_ERR_INVALID_ARG, "the hardness must be > 0 (+infinity: no plasticity), got " + num(hardness));
+    const bool on = std::isfinite(hardness);
+    if (on && grid_.ranks() > 1)
+        fail(GFMD_ERR_STATE, "plasticity on a handle distributed over several ranks is not supported");
+    if (on && params_.gamma0 > 0.0)
+        fail(GFMD_ERR_STATE, "a hardness (plasticity) with adhesion is not supported: switch adhesion off first");
+    Params asked = params_;
+    asked.hardness = hardness;
+    require_solver_takes(grid_, asked, params_.solver);
+    if (on && plastic_) {  // a new hardness: the step made at the old one stands
+        commit(grid_, *plastic_, fields_);
+        params_.hardness = hardness;
+        refresh_forces();
+        solver_->restart(dynamics_);
+        return;
+    }
+    // on: the substrate now is the first step's; off: the substrate keeps its flattened shape
+    std::unique_ptr<Plasticity> other;
+    if (on) {
+        check_memory(grid_.nx(), grid_.ny(), 9.0);
+        other = std::make_unique<Plasticity>(grid_, fields_.h);
+    }
+    const Params old = params_;
+    change(
+        "this hardness",
+        [&] {
+            params_.hardness = hardness;
+            std::swap(plastic_, other);
+        },
+        [&] {
+            params_ = old;
+            std::swap(plastic_, other);
+        });
+}
+
+double Simulation::plastic_area() const {
+    if (!plastic_) return 0.0;
+    return static_cast<double>(plastic_->yielding_points) / static_cast<double>(grid_.real_size());
+}
+
+double Simulation::plastic_volume() const { return plastic_ ? gfmd::plastic_volume(grid_, *plastic_, fields_) : 0.0; }
 
 void Simulation::set_timestep(double dt) {
     require_finite(dt, "dt");
@@ -313,6 +390,7 @@ ChoiceFeatures Simulation::choice_features() const {
     ChoiceFeatures f;
     f.body = params_.kind;
     f.adhesive = params_.gamma0 > 0.0;
+    f.plastic = std::isfinite(params_.hardness);
     f.pressure_control = params_.control == kPressureControl;
     f.points = static_cast<double>(grid_.real_size());
     f.softness = long_wave_softness(grid_, body_, params_.e_star);
@@ -383,6 +461,8 @@ void Simulation::set_planner(int32_t planner) { grid_.replan(grid_.threads(), pl
 void Simulation::reset() {
     // Even a flat surface can overflow: the FFT's rounding leaves modes of order eps * max h,
     // which an extreme E* turns into infinite stresses (a fuzz finding). Undo if so.
+    // with hardness the substrate keeps the shape the body pressed into it
+    if (plastic_) commit(grid_, *plastic_, fields_);
     undo_.save(fields_);
     change(
         "resetting the surface",
@@ -419,6 +499,7 @@ bool Simulation::relax_from(double tol, int64_t max_steps, int64_t &steps_taken,
     // every few steps is tested only there, so one call and a relax in chunks stop alike.
     while (!solver_->at_check(params_) || forces_.residual > tol) {
         if (steps_taken == max_steps) return false;
+        if (plastic_) release(grid_, params_, *plastic_, fields_);
         solver_->advance(c);
         apply_control();
         ++steps_taken;
@@ -435,7 +516,12 @@ double Simulation::mean_gap() const { return gfmd::mean_gap(grid_, fields_); }
 void Simulation::heights(double *out) const { std::copy(fields_.h.data(), fields_.h.data() + fields_.h.size(), out); }
 void Simulation::gap(double *out) const { gfmd::gap(fields_, out); }
 void Simulation::surface(double *out) const { std::copy(fields_.z.data(), fields_.z.data() + fields_.z.size(), out); }
-void Simulation::pressure(double *out) const { gfmd::pressure(params_, fields_, out); }
+void Simulation::pressure(double *out) const {
+    gfmd::pressure(params_, fields_, out);
+    if (!plastic_ || plastic_->yielding_points == 0) return;
+    for (std::size_t i = 0; i < fields_.z.size(); ++i)
+        if (plastic_->yielding[i] != 0) out[i] = params_.hardness;  // the yielding substrate's pressure
+}
 void Simulation::contact_set(unsigned char *out) const {
     for (std::size_t i = 0; i < fields_.z.size(); ++i) out[i] = fields_.z[i] <= fields_.h[i] ? 1 : 0;
 }

@@ -14,6 +14,7 @@
 #include "forces.hpp"
 #include "green.hpp"
 #include "params.hpp"
+#include "plasticity.hpp"
 #include "solver_choice.hpp"
 #include "solvers/solver.hpp"
 #include "substrate.hpp"
@@ -53,6 +54,13 @@ public:
     // Throws GFMD_ERR_INVALID_ARG unless d is finite and >= the mean of the substrate h.
     void check_mean_displacement(double d, const double *h) const;
     void set_adhesion(double gamma0, double rho);
+    // Perfect plasticity at hardness H (plasticity.hpp); +inf: none.  Throws GFMD_ERR_INVALID_ARG
+    // for H <= 0 or NaN, GFMD_ERR_STATE with adhesion, a solver that does not take it, or a
+    // distributed grid.  A change of a finite H commits the load step made at the old one.
+    void set_hardness(double hardness);
+    // The fraction of the points yielding now, and the volume the substrate lost (0 without hardness).
+    double plastic_area() const;
+    double plastic_volume() const;
     void set_timestep(double dt);
     void set_damping(double eta);
     void set_solver(int32_t solver);
@@ -60,6 +68,7 @@ public:
     void set_planner(int32_t planner);
     void reset();
     void restart_solver() { solver_->restart(dynamics_); }
+    double hardness() const { return params_.hardness; }
 
     const Dynamics &dynamics() const { return dynamics_; }
     // The solver that steps now: the one set, or the one GFMD_SOLVER_AUTO chose.
@@ -105,6 +114,7 @@ private:
     void change_body(const char *what, const Params &p);
     void change_substrate(RealBuffer &&h);
     void apply_control();  // under displacement control: z projected onto mean(z) = mean_z
+    void commit_plastic_step();  // with hardness: a change of load begins a new plastic step
     // GFMD_SOLVER_AUTO's choice for the current problem (solver_choice.hpp), or the one requested
     int32_t resolve_solver(int32_t requested) const;
     ChoiceFeatures choice_features() const;
@@ -132,6 +142,7 @@ private:
     mutable std::optional<double> substrate_q_;
     int32_t active_solver_;
     std::unique_ptr<Solver> solver_;
+    std::unique_ptr<Plasticity> plastic_;  // with a finite hardness only
 };
 
 }  // namespace gfmd

@@ -58,6 +58,7 @@ int32_t adhesive_fluid_layer(const ChoiceFeatures &f, const ChoiceRule &r) {
 }  // namespace
 
 int32_t choose_solver(const ChoiceFeatures &f, const ChoiceRule &r) {
+    if (f.plastic) return GFMD_SOLVER_FIRE;  // the one general solver that takes the yielding wall
     const double cg_cost = f.softness * std::sqrt(f.points);
     if (!f.pressure_control) return under_displacement(f, r, cg_cost);
     if (f.body == GFMD_GREEN_LAYER_FLUID) return f.adhesive ? adhesive_fluid_layer(f, r) : fluid_layer(f, r);

@@ -11,6 +11,7 @@ namespace gfmd {
 struct ChoiceFeatures {
     int32_t body = 0;                // GFMD_GREEN_*
     bool adhesive = false;           // gamma0 > 0
+    bool plastic = false;            // a finite hardness: only FIRE and Verlet take its yielding wall
     bool pressure_control = true;    // false: the mean position is prescribed
     double points = 0.0;             // nx ny
     double softness = 0.0;           // S = k_halfspace(q_max) / k_min: the long waves' softness

@@ -157,7 +157,7 @@ static void cg_restart_is_bit_exact(void **state) {
     TS_OK(a, gfmd_step(a, 7));
     TS_OK(a, gfmd_sim_save(a, PATH));
     /* one field more than FIRE's file: the pressure (and its row hashes); 8 numbers of state instead of 3 */
-    assert_int_equal(file_size(PATH), 8 + 8 + 32 + 9 * 8 + 3 * 4 + 8 + 4 + 4 + 8 * 8 + 4 + 4 * 8 * NX * NY + 4 * 8 * NY + 8);
+    assert_int_equal(file_size(PATH), 8 + 8 + 32 + 10 * 8 + 3 * 4 + 8 + 4 + 4 + 8 * 8 + 4 + 12 + 4 * 8 * NX * NY + 4 * 8 * NY + 8);
     expect_resumed(a, GFMD_SOLVER_CG, 9);
 }
 
@@ -199,10 +199,11 @@ static void damaged_files_are_refused(void **state) {
     TS_OK(a, gfmd_sim_save(a, PATH));
     gfmd_sim_destroy(&a);
     const long n = file_size(PATH);
-    /* format 5: magic, version + flags, grid, 9 f64 + 3 i32 parameters, threads + planner, the
-     * solver state (count + FIRE's 3 numbers), the count of solver fields (0), three fields, a
-     * hash per row of each field, the hash of header and row hashes */
-    assert_int_equal(n, 8 + 8 + 32 + 9 * 8 + 3 * 4 + 8 + 4 + 4 + 3 * 8 + 4 + 3 * 8 * NX * NY + 3 * 8 * NY + 8);
+    /* format 6: magic, version + flags, grid, 10 f64 + 3 i32 parameters, threads + planner, the
+     * solver state (count + FIRE's 3 numbers), the count of solver fields (0), the count of
+     * plastic fields (0) and the plastic volume, three fields, a hash per row of each field, the
+     * hash of header and row hashes */
+    assert_int_equal(n, 8 + 8 + 32 + 10 * 8 + 3 * 4 + 8 + 4 + 4 + 3 * 8 + 4 + 12 + 3 * 8 * NX * NY + 3 * 8 * NY + 8);
 
     const long cuts[] = {0, 5, 12, 100, n / 2, n - 1};
     for (int i = 0; i < 6; ++i) {
@@ -214,8 +215,8 @@ static void damaged_files_are_refused(void **state) {
         rewrite(PATH, -1, flips[i], NULL, 0, 0);
         expect_refused(GFMD_ERR_FORMAT, "corrupted");
     }
-    const unsigned char v6[4] = {6, 0, 0, 0};
-    rewrite(PATH, -1, -1, v6, 4, 8);
+    const unsigned char v7[4] = {7, 0, 0, 0};
+    rewrite(PATH, -1, -1, v7, 4, 8);
     expect_refused(GFMD_ERR_VERSION, "another version");
     const unsigned char junk[8] = {'P', 'K', 3, 4, 0, 0, 0, 0};
     rewrite(PATH, -1, -1, junk, 8, 0);
@@ -240,6 +241,35 @@ static void damaged_files_are_refused(void **state) {
 enum { OFF_VERSION = 8, OFF_FLAGS = 12, OFF_NX = 16, OFF_CONTROL = 120, CONTROL_BYTES = 12, OFF_COUNT = 140,
        OFF_STATE = 144, OFF_FIELDS = 172 };
 
+static uint64_t fnv(uint64_t h, const unsigned char *b, long n);
+static void put_le(uint64_t x, unsigned char *b);
+
+/* A file of the current format 6 without plasticity as the format-5 file it extends: the hardness
+ * (8 bytes after mean_z, +infinity) and the plastic count and volume (12 bytes after the count of
+ * solver fields, zero) taken out and the final hash formed again.  The byte-level tests below
+ * work on format 5's layout; test_plasticity checks format 6's own fields. */
+enum { OFF_HARDNESS6 = 132 };
+static void as_format5(unsigned char *buf, long *n) {
+    assert_int_equal(buf[8], 6);
+    double hardness = 0.0;
+    memcpy(&hardness, buf + OFF_HARDNESS6, 8);
+    assert_true(isinf(hardness));
+    memmove(buf + OFF_HARDNESS6, buf + OFF_HARDNESS6 + 8, (size_t)(*n - OFF_HARDNESS6 - 8));
+    *n -= 8;
+    uint32_t count = 0, m = 1;
+    memcpy(&count, buf + 144, 4); /* format 5's count of solver state numbers */
+    const long k_at = 148 + 8L * count, plastic_at = k_at + 4;
+    memcpy(&m, buf + plastic_at, 4);
+    assert_int_equal(m, 0);
+    memmove(buf + plastic_at, buf + plastic_at + 12, (size_t)(*n - plastic_at - 12));
+    *n -= 12;
+    buf[8] = 5;
+    uint32_t k = 0;
+    memcpy(&k, buf + k_at, 4);
+    const long fields_at = k_at + 4, table = *n - 8 - 8L * (3 + k) * NY;
+    put_le(fnv(fnv(0xcbf29ce484222325ULL, buf, fields_at), buf + table, *n - 8 - table), buf + *n - 8);
+}
+
 static unsigned char *read_all(const char *path, long *n) {
     *n = file_size(path);
     unsigned char *buf = malloc((size_t)*n);
@@ -247,6 +277,7 @@ static unsigned char *read_all(const char *path, long *n) {
     assert_non_null(f);
     assert_int_equal(fread(buf, 1, (size_t)*n, f), (size_t)*n);
     fclose(f);
+    if (buf[8] == 6) as_format5(buf, n);
     return buf;
 }
 

@@ -40,7 +40,7 @@ static void same_state(gfmd_sim *a, gfmd_sim *b, const char *after) {
             TS_OK(b, getters[g](b, fb));
             if (memcmp(fa, fb, sizeof fa) != 0) fail_msg("after %s: field %zu differs (round %d)", after, g, round);
         }
-        double xa[8], xb[8];
+        double xa[10], xb[10];
         TS_OK(a, gfmd_get_contact_area(a, &xa[0]));
         TS_OK(b, gfmd_get_contact_area(b, &xb[0]));
         TS_OK(a, gfmd_get_mean_gap(a, &xa[1]));
@@ -53,6 +53,8 @@ static void same_state(gfmd_sim *a, gfmd_sim *b, const char *after) {
         TS_OK(b, gfmd_get_dynamics(b, &xb[5], &xb[6]));
         TS_OK(a, gfmd_persson_variance(a, &xa[7]));
         TS_OK(b, gfmd_persson_variance(b, &xb[7]));
+        TS_OK(a, gfmd_get_plasticity(a, &xa[8], &xa[9]));
+        TS_OK(b, gfmd_get_plasticity(b, &xb[8], &xb[9]));
         if (memcmp(xa, xb, sizeof xa) != 0) fail_msg("after %s: an observable differs (round %d)", after, round);
         int32_t ta = 0, tb = 0;
         TS_OK(a, gfmd_get_threads(a, &ta));
@@ -123,6 +125,31 @@ static int32_t adhesion_nan(gfmd_sim *s) { return gfmd_set_adhesion(s, NAN, 0.5)
 static int32_t adhesion_rho_zero(gfmd_sim *s) { return gfmd_set_adhesion(s, 1e-3, 0.0); }
 static int32_t adhesion_rho_inf(gfmd_sim *s) { return gfmd_set_adhesion(s, 1e-3, INFINITY); }
 static int32_t adhesion_overflow(gfmd_sim *s) { return gfmd_set_adhesion(s, 1e300, 1e-300); }
+static int32_t hardness_zero(gfmd_sim *s) { return gfmd_set_hardness(s, 0.0); }
+static int32_t hardness_negative(gfmd_sim *s) { return gfmd_set_hardness(s, -1.0); }
+static int32_t hardness_nan(gfmd_sim *s) { return gfmd_set_hardness(s, NAN); }
+static int32_t hardness_with_adhesion(gfmd_sim *s) { return gfmd_set_hardness(s, 0.1); }
+static int32_t patches_connectivity(gfmd_sim *s) {
+    int64_t n = 0;
+    return gfmd_get_contact_patches(s, 6, NULL, &n);
+}
+static int32_t patch_unknown_property(gfmd_sim *s) {
+    int64_t n = 0;
+    return gfmd_get_patch_property(s, 4, 77, 0, NULL, &n);
+}
+static int32_t patch_values_truncated(gfmd_sim *s) {
+    int64_t n = 0;
+    return gfmd_get_patch_property(s, 4, GFMD_PATCH_AREA, 0, NULL, &n);
+}
+static int32_t histogram_no_bins(gfmd_sim *s) {
+    double r[2] = {0.0, 0.0}, f = 0.0, m = 0.0;
+    return gfmd_get_pressure_histogram(s, 0, r, &f, &m);
+}
+static int32_t persson_density_nan(gfmd_sim *s) {
+    const double p = NAN;
+    double d = 0.0;
+    return gfmd_persson_pressure_distribution(s, 0.05, 1, &p, &d);
+}
 static int32_t position_below_substrate(gfmd_sim *s) { return gfmd_set_mean_displacement(s, -1e6); }
 static int32_t position_nan(gfmd_sim *s) { return gfmd_set_mean_displacement(s, NAN); }
 static int32_t mean_pressure_null(gfmd_sim *s) { return gfmd_get_mean_pressure(s, NULL); }
@@ -197,6 +224,15 @@ static const failing CALLS[] = {
     {"rho 0", GFMD_ERR_INVALID_ARG, adhesion_rho_zero},
     {"rho inf", GFMD_ERR_INVALID_ARG, adhesion_rho_inf},
     {"adhesive stiffness overflowing", GFMD_ERR_RANGE, adhesion_overflow},
+    {"hardness 0", GFMD_ERR_INVALID_ARG, hardness_zero},
+    {"hardness < 0", GFMD_ERR_INVALID_ARG, hardness_negative},
+    {"hardness NaN", GFMD_ERR_INVALID_ARG, hardness_nan},
+    {"hardness with adhesion", GFMD_ERR_STATE, hardness_with_adhesion},
+    {"patches with connectivity 6", GFMD_ERR_INVALID_ARG, patches_connectivity},
+    {"an unknown patch property", GFMD_ERR_BAD_ENUM, patch_unknown_property},
+    {"patch values into no room", GFMD_ERR_TRUNCATED, patch_values_truncated},
+    {"a pressure histogram of 0 bins", GFMD_ERR_INVALID_ARG, histogram_no_bins},
+    {"Persson's P(p) at a NaN pressure", GFMD_ERR_INVALID_ARG, persson_density_nan},
     {"mean position below the substrate's mean", GFMD_ERR_INVALID_ARG, position_below_substrate},
     {"mean position NaN", GFMD_ERR_INVALID_ARG, position_nan},
     {"mean pressure into NULL", GFMD_ERR_NULL, mean_pressure_null},
@@ -285,6 +321,54 @@ static void cg_refusals_change_nothing(void **state) {
     gfmd_sim_destroy(&b);
 }
 
+/* With a hardness, on twins without adhesion that have yielded (a load step half made): the
+ * calls the plastic state refuses, and the bad values, change nothing -- the substrate of the
+ * step's start, the yielding points and the plastic volume included. */
+static int32_t adhesion_on_plastic(gfmd_sim *s) { return gfmd_set_adhesion(s, 1e-3, 0.5); }
+static int32_t cg_on_plastic(gfmd_sim *s) { return gfmd_set_solver(s, GFMD_SOLVER_CG); }
+static int32_t mass_on_plastic(gfmd_sim *s) { return gfmd_set_solver(s, GFMD_SOLVER_MASS_WEIGHTED_FIRE); }
+static int32_t multilevel_on_plastic(gfmd_sim *s) { return gfmd_relax_multilevel(s, 1e-6, 100, 2, NULL, NULL); }
+static int32_t pressure_nan_on_plastic(gfmd_sim *s) { return gfmd_set_pressure(s, NAN); }
+
+static void plastic_refusals_change_nothing(void **state) {
+    (void)state;
+    static const failing calls[] = {
+        {"adhesion with a hardness", GFMD_ERR_STATE, adhesion_on_plastic},
+        {"the CG with a hardness", GFMD_ERR_STATE, cg_on_plastic},
+        {"mass-weighted FIRE with a hardness", GFMD_ERR_STATE, mass_on_plastic},
+        {"the multilevel start with a hardness", GFMD_ERR_STATE, multilevel_on_plastic},
+        {"hardness NaN on a plastic run", GFMD_ERR_INVALID_ARG, hardness_nan},
+        {"a NaN load on a plastic run", GFMD_ERR_INVALID_ARG, pressure_nan_on_plastic},
+    };
+    gfmd_sim *a = make_twin(), *b = make_twin();
+    gfmd_sim *both[2] = {a, b};
+    for (int i = 0; i < 2; ++i) {
+        TS_OK(both[i], gfmd_set_adhesion(both[i], 0.0, 0.5));
+        TS_OK(both[i], gfmd_set_hardness(both[i], 0.2));
+        TS_OK(both[i], gfmd_set_pressure(both[i], 0.1));
+        TS_OK(both[i], gfmd_step(both[i], 60));
+    }
+    double plastic = 0.0;
+    TS_OK(a, gfmd_get_plasticity(a, &plastic, NULL));
+    assert_true(plastic > 0.0); /* points are yielding: the state the refusals must keep */
+    same_state(a, b, "the plastic steps");
+    run_calls(a, b, calls, sizeof calls / sizeof calls[0]);
+    /* and a plastic run that diverges (Verlet at 50 times its step) */
+    double dt = 0.0;
+    TS_OK(a, gfmd_get_dynamics(a, &dt, NULL));
+    for (int i = 0; i < 2; ++i) {
+        TS_OK(both[i], gfmd_set_solver(both[i], GFMD_SOLVER_VERLET));
+        TS_OK(both[i], gfmd_step(both[i], 7));
+        TS_OK(both[i], gfmd_set_timestep(both[i], 50.0 * dt));
+    }
+    assert_int_equal(gfmd_step(a, 100000), GFMD_ERR_DIVERGED);
+    TS_OK(a, gfmd_set_timestep(a, dt));
+    TS_OK(b, gfmd_set_timestep(b, dt));
+    same_state(a, b, "a diverged plastic run");
+    gfmd_sim_destroy(&a);
+    gfmd_sim_destroy(&b);
+}
+
 /* A run that diverges (damped dynamics at 50 times its automatic time step, far beyond the
  * stability limit) restores the configuration and the solver's state of the call's start. */
 static void divergence_changes_nothing(void **state) {
@@ -311,6 +395,7 @@ int main(void) {
         cmocka_unit_test(every_failure_changes_nothing),
         cmocka_unit_test(divergence_changes_nothing),
         cmocka_unit_test(cg_refusals_change_nothing),
+        cmocka_unit_test(plastic_refusals_change_nothing),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -160,8 +160,15 @@ int main(int argc, char **argv) {
         long n = 0;
         unsigned char *b = read_all(path, &n);
         const long k = 4; /* h, z, v and CG's pressure */
-        const long n4 = n - 4 - 8 * k * NY, active_at = 140; /* format 5's active solver, after the planner */
-        memmove(b + active_at, b + active_at + 4, (size_t)(n - active_at - 4));
+        /* format 6's hardness (after mean_z), its active solver (after the planner), its plastic count
+         * and volume (after the count of solver fields) out: format 4 */
+        const long hardness_at = 132, active_at = 140, n4 = n - 8 - 4 - 12 - 8 * k * NY;
+        memmove(b + hardness_at, b + hardness_at + 8, (size_t)(n - hardness_at - 8));
+        memmove(b + active_at, b + active_at + 4, (size_t)(n - 8 - active_at - 4));
+        unsigned int count = 0;
+        memcpy(&count, b + 140, 4);
+        const long plastic_at = 144 + 8L * count + 4;
+        memmove(b + plastic_at, b + plastic_at + 12, (size_t)(n - 12 - plastic_at - 12));
         b[8] = 4;
         unsigned long long h = 0xcbf29ce484222325ULL;
         for (long i = 0; i < n4 - 8; ++i) h = (h ^ b[i]) * 0x100000001b3ULL;

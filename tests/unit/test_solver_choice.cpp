@@ -118,6 +118,9 @@ std::vector<Row> rows() {
     add("half-space without load", with(halfspace(), [](ChoiceFeatures &f) { f.persson_area = 0.0; }), GFMD_SOLVER_CG);
     add("half-space adhesive", with(halfspace(), [](ChoiceFeatures &f) { f.adhesive = true; f.persson_area = 0.5; }),
         GFMD_SOLVER_CG);
+    // a hardness: FIRE, whatever else (the CG's row above without it)
+    add("half-space without load, plastic", with(halfspace(), [](ChoiceFeatures &f) {
+            f.persson_area = 0.0; f.plastic = true; }), GFMD_SOLVER_FIRE);
     // cg_cost: within it CG (S A/A0 small); beyond it and at many contacts FIRE
     // (A/A0 sqrt(N) just beyond cg_low_load, S A/A0 below cg_dense: the cost bound decides)
     const auto dense_load = [&](ChoiceFeatures &f) { f.persson_area = 1.05 * R.cg_low_load / std::sqrt(f.points); };
