@@ -22,7 +22,7 @@ module gfmd
 
   public :: gfmd_sim_t, gfmd_version, gfmd_status_string, gfmd_green_factor, gfmd_least_squares
   public :: gfmd_import_wisdom, gfmd_export_wisdom
-  public :: gfmd_sim_adopt, gfmd_sim_c_handle
+  public :: gfmd_sim_adopt, gfmd_sim_c_handle, gfmd_label_patches
 
   !> A simulation: owns one C handle.
   type :: gfmd_sim_t
@@ -71,6 +71,13 @@ module gfmd
     procedure :: persson_variance => sim_persson_variance
     procedure :: persson_contact_area => sim_persson_contact_area
     procedure :: persson_load => sim_persson_load
+    procedure :: set_hardness => sim_set_hardness
+    procedure :: get_hardness => sim_get_hardness
+    procedure :: get_plasticity => sim_get_plasticity
+    procedure :: get_contact_patches => sim_get_contact_patches
+    procedure :: get_patch_property => sim_get_patch_property
+    procedure :: get_pressure_histogram => sim_get_pressure_histogram
+    procedure :: persson_pressure_distribution => sim_persson_pressure_distribution
     procedure :: last_error => sim_last_error
     procedure, private :: sim_assign
     generic :: assignment(=) => sim_assign
@@ -88,24 +95,34 @@ contains
     character(*), intent(in) :: where
     integer, intent(out), optional :: stat
     character(*), intent(out), optional :: errmsg
+    shape_ok = dims_ok(self, size(a, 1, kind=c_int64_t), size(a, 2, kind=c_int64_t), where, stat, errmsg)
+  end function shape_ok
+
+  !> The same for an array of any type of extents (n1, n2).
+  logical function dims_ok(self, n1, n2, where, stat, errmsg)
+    class(gfmd_sim_t), intent(in) :: self
+    integer(c_int64_t), intent(in) :: n1, n2
+    character(*), intent(in) :: where
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
     integer(c_int64_t) :: nx, ny
     real(c_double) :: lx, ly
     integer(c_int32_t) :: st
     character(160) :: detail
-    shape_ok = .false.
+    dims_ok = .false.
     st = c_gfmd_get_grid(self%ptr, nx, ny, lx, ly)
     if (st /= GFMD_OK) then
       call finish(self%ptr, st, where, stat, errmsg)
       return
     end if
-    if (size(a, 1, kind=c_int64_t) /= nx .or. size(a, 2, kind=c_int64_t) /= ny) then
-      write (detail, '(a,i0,a,i0,a,i0,a,i0,a)') 'the array is (', size(a, 1), ', ', size(a, 2), &
+    if (n1 /= nx .or. n2 /= ny) then
+      write (detail, '(a,i0,a,i0,a,i0,a,i0,a)') 'the array is (', n1, ', ', n2, &
         '), the grid is (nx, ny) = (', nx, ', ', ny, ')'
       call finish(self%ptr, int(GFMD_ERR_INVALID_ARG, c_int32_t), where, stat, errmsg, trim(detail))
       return
     end if
-    shape_ok = .true.
-  end function shape_ok
+    dims_ok = .true.
+  end function dims_ok
 
   ! ------------------------------------------------------------------ module procedures
 
@@ -686,6 +703,179 @@ contains
     if (.not. shape_ok(self, p, 'get_pressure', stat, errmsg)) return
     call finish(self%ptr, c_gfmd_get_pressure(self%ptr, p), 'get_pressure', stat, errmsg)
   end subroutine sim_get_pressure
+
+  ! ------------------------------------------------------------------ plasticity
+
+  !> Perfect plasticity at hardness H (gfmd_set_hardness); ieee +infinity switches it off.
+  subroutine sim_set_hardness(self, hardness, stat, errmsg)
+    class(gfmd_sim_t), intent(inout) :: self
+    real(dp), intent(in) :: hardness
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    call finish(self%ptr, c_gfmd_set_hardness(self%ptr, hardness), 'set_hardness', stat, errmsg)
+  end subroutine sim_set_hardness
+
+  subroutine sim_get_hardness(self, hardness, stat, errmsg)
+    class(gfmd_sim_t), intent(in) :: self
+    real(dp), intent(out) :: hardness
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    call finish(self%ptr, c_gfmd_get_hardness(self%ptr, hardness), 'get_hardness', stat, errmsg)
+  end subroutine sim_get_hardness
+
+  !> The fraction of the points yielding now and the volume the substrate lost (gfmd_get_plasticity).
+  subroutine sim_get_plasticity(self, plastic_area, plastic_volume, stat, errmsg)
+    class(gfmd_sim_t), intent(in) :: self
+    real(dp), intent(out), optional :: plastic_area, plastic_volume
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    real(c_double) :: a, v
+    integer(c_int32_t) :: st
+    st = c_gfmd_get_plasticity(self%ptr, a, v)
+    if (st == GFMD_OK) then
+      if (present(plastic_area)) plastic_area = a
+      if (present(plastic_volume)) plastic_volume = v
+    end if
+    call finish(self%ptr, st, 'get_plasticity', stat, errmsg)
+  end subroutine sim_get_plasticity
+
+  ! ------------------------------------------------------------------ how the contact is made
+
+  !> Connected-component labels of mask(nx, ny) (gfmd_label_patches): labels 0 outside, 1..npatches
+  !> in the order of each patch's first point (x fastest); connectivity 4 (default) or 8; periodic
+  !> (default .true.) wraps the grid.
+  subroutine gfmd_label_patches(mask, labels, npatches, connectivity, periodic, stat, errmsg)
+    logical, intent(in) :: mask(:, :)
+    integer, intent(out) :: labels(:, :)
+    integer, intent(out) :: npatches
+    integer, intent(in), optional :: connectivity
+    logical, intent(in), optional :: periodic
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    integer(c_int32_t), allocatable :: m(:, :)
+    integer(c_int64_t), allocatable :: lab(:, :)
+    integer(c_int64_t) :: n
+    integer(c_int32_t) :: st, conn, per
+    conn = 4
+    if (present(connectivity)) conn = int(connectivity, c_int32_t)
+    per = 1
+    if (present(periodic)) then
+      if (.not. periodic) per = 0
+    end if
+    npatches = 0
+    if (any(shape(labels) /= shape(mask))) then
+      call finish(c_null_ptr, int(GFMD_ERR_INVALID_ARG, c_int32_t), 'label_patches', stat, errmsg, &
+                  'labels must have the shape of mask')
+      return
+    end if
+    allocate (m(size(mask, 1), size(mask, 2)), lab(size(mask, 1), size(mask, 2)))
+    m = merge(1_c_int32_t, 0_c_int32_t, mask)
+    st = c_gfmd_label_patches(size(mask, 1, kind=c_int64_t), size(mask, 2, kind=c_int64_t), m, conn, per, lab, n)
+    if (st == GFMD_OK) then
+      labels = int(lab)
+      npatches = int(n)
+    end if
+    call finish(c_null_ptr, st, 'label_patches', stat, errmsg)
+  end subroutine gfmd_label_patches
+
+  !> The contact patches (gfmd_get_contact_patches): labels(nx, ny) and their number.
+  subroutine sim_get_contact_patches(self, labels, npatches, connectivity, stat, errmsg)
+    class(gfmd_sim_t), intent(in) :: self
+    integer, intent(out) :: labels(:, :)
+    integer, intent(out) :: npatches
+    integer, intent(in), optional :: connectivity
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    integer(c_int64_t), allocatable :: lab(:, :)
+    integer(c_int64_t) :: n
+    integer(c_int32_t) :: st, conn
+    conn = 4
+    if (present(connectivity)) conn = int(connectivity, c_int32_t)
+    npatches = 0
+    if (.not. dims_ok(self, size(labels, 1, kind=c_int64_t), size(labels, 2, kind=c_int64_t), &
+                      'get_contact_patches', stat, errmsg)) return
+    allocate (lab(size(labels, 1), size(labels, 2)))
+    st = c_gfmd_get_contact_patches(self%ptr, conn, lab, n)
+    if (st == GFMD_OK) then
+      labels = int(lab)
+      npatches = int(n)
+    end if
+    call finish(self%ptr, st, 'get_contact_patches', stat, errmsg)
+  end subroutine sim_get_contact_patches
+
+  !> One property (GFMD_PATCH_*) of every contact patch, in label order, into values (allocated
+  !> to the number of patches).
+  subroutine sim_get_patch_property(self, property, values, connectivity, stat, errmsg)
+    class(gfmd_sim_t), intent(in) :: self
+    integer, intent(in) :: property
+    real(dp), allocatable, intent(out) :: values(:)
+    integer, intent(in), optional :: connectivity
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    integer(c_int64_t) :: n
+    integer(c_int32_t) :: st, conn
+    real(c_double) :: none(1)
+    conn = 4
+    if (present(connectivity)) conn = int(connectivity, c_int32_t)
+    st = c_gfmd_get_patch_property(self%ptr, conn, int(property, c_int32_t), 0_c_int64_t, none, n)
+    if (st == GFMD_OK .or. st == GFMD_ERR_TRUNCATED) then
+      allocate (values(n))
+      st = c_gfmd_get_patch_property(self%ptr, conn, int(property, c_int32_t), n, values, n)
+    end if
+    if (.not. allocated(values)) allocate (values(0))
+    call finish(self%ptr, st, 'get_patch_property', stat, errmsg)
+  end subroutine sim_get_patch_property
+
+  !> The contact pressures binned into size(fraction) bins (gfmd_get_pressure_histogram); range
+  !> (in: [lo, hi], or absent / [0, 0] for the contact's own; out: the range used).
+  subroutine sim_get_pressure_histogram(self, fraction, mean, range, stat, errmsg)
+    class(gfmd_sim_t), intent(in) :: self
+    real(dp), intent(out) :: fraction(:), mean(:)
+    real(dp), intent(inout), optional :: range(2)
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    real(c_double) :: r(2)
+    real(c_double), allocatable :: f(:), m(:)
+    integer(c_int32_t) :: st
+    r = 0.0_dp
+    if (present(range)) r = range
+    if (size(mean) /= size(fraction)) then
+      call finish(self%ptr, int(GFMD_ERR_INVALID_ARG, c_int32_t), 'get_pressure_histogram', stat, errmsg, &
+                  'fraction and mean must have the same size')
+      return
+    end if
+    allocate (f(max(size(fraction), 1)), m(max(size(fraction), 1)))
+    st = c_gfmd_get_pressure_histogram(self%ptr, size(fraction, kind=c_int64_t), r, f, m)
+    if (st == GFMD_OK) then
+      fraction = f(1:size(fraction))
+      mean = m(1:size(fraction))
+      if (present(range)) range = r
+    end if
+    call finish(self%ptr, st, 'get_pressure_histogram', stat, errmsg)
+  end subroutine sim_get_pressure_histogram
+
+  !> Persson's P(p) at the load sigma0, at the pressures p (gfmd_persson_pressure_distribution).
+  subroutine sim_persson_pressure_distribution(self, sigma0, p, density, stat, errmsg)
+    class(gfmd_sim_t), intent(in) :: self
+    real(dp), intent(in) :: sigma0
+    real(dp), intent(in) :: p(:)
+    real(dp), intent(out) :: density(:)
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    real(c_double), allocatable :: d(:), q(:)
+    integer(c_int32_t) :: st
+    if (size(density) /= size(p)) then
+      call finish(self%ptr, int(GFMD_ERR_INVALID_ARG, c_int32_t), 'persson_pressure_distribution', stat, errmsg, &
+                  'p and density must have the same size')
+      return
+    end if
+    allocate (q(max(size(p), 1)), d(max(size(p), 1)))
+    q = 0.0_dp
+    q(1:size(p)) = p
+    st = c_gfmd_persson_pressure_distribution(self%ptr, sigma0, size(p, kind=c_int64_t), q, d)
+    if (st == GFMD_OK) density = d(1:size(p))
+    call finish(self%ptr, st, 'persson_pressure_distribution', stat, errmsg)
+  end subroutine sim_persson_pressure_distribution
 
   !> The library's message of the last failure on this simulation.
   function sim_last_error(self) result(msg)

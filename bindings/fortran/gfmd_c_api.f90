@@ -18,6 +18,9 @@ module gfmd_c_api
     c_gfmd_get_solver
   public :: c_gfmd_set_fft_planner, c_gfmd_import_wisdom, c_gfmd_export_wisdom
   public :: c_gfmd_persson_variance, c_gfmd_persson_contact_area, c_gfmd_persson_load, c_gfmd_least_squares
+  public :: c_gfmd_set_hardness, c_gfmd_get_hardness, c_gfmd_get_plasticity
+  public :: c_gfmd_label_patches, c_gfmd_get_contact_patches, c_gfmd_get_patch_property
+  public :: c_gfmd_get_pressure_histogram, c_gfmd_persson_pressure_distribution
 
   interface
     ! const char *gfmd_version(void);
@@ -431,6 +434,92 @@ module gfmd_c_api
       real(c_double), intent(in) :: a(*), b(*)
       real(c_double), intent(out) :: x(*)
       real(c_double), intent(out) :: rss
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_set_hardness(gfmd_sim *s, double hardness);
+    function c_gfmd_set_hardness(s, hardness) bind(C, name="gfmd_set_hardness") result(r)
+      import :: c_ptr, c_int32_t, c_double
+      type(c_ptr), value :: s
+      real(c_double), value :: hardness
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_get_hardness(const gfmd_sim *s, double *hardness);
+    function c_gfmd_get_hardness(s, hardness) bind(C, name="gfmd_get_hardness") result(r)
+      import :: c_ptr, c_int32_t, c_double
+      type(c_ptr), value :: s
+      real(c_double), intent(out) :: hardness
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_get_plasticity(const gfmd_sim *s, double *plastic_area, double *plastic_volume);
+    function c_gfmd_get_plasticity(s, plastic_area, plastic_volume) bind(C, name="gfmd_get_plasticity") result(r)
+      import :: c_ptr, c_int32_t, c_double
+      type(c_ptr), value :: s
+      real(c_double), intent(out) :: plastic_area, plastic_volume
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_label_patches(int64_t nx, int64_t ny, const int32_t *mask, int32_t connectivity,
+    !                            int32_t periodic, int64_t *labels, int64_t *npatches);
+    function c_gfmd_label_patches(nx, ny, mask, connectivity, periodic, labels, npatches) &
+        bind(C, name="gfmd_label_patches") result(r)
+      import :: c_int32_t, c_int64_t
+      integer(c_int64_t), value :: nx, ny
+      integer(c_int32_t), intent(in) :: mask(*)
+      integer(c_int32_t), value :: connectivity, periodic
+      integer(c_int64_t), intent(inout) :: labels(*)
+      integer(c_int64_t), intent(out) :: npatches
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_get_contact_patches(const gfmd_sim *s, int32_t connectivity, int64_t *labels,
+    !                                  int64_t *npatches);
+    function c_gfmd_get_contact_patches(s, connectivity, labels, npatches) &
+        bind(C, name="gfmd_get_contact_patches") result(r)
+      import :: c_ptr, c_int32_t, c_int64_t
+      type(c_ptr), value :: s
+      integer(c_int32_t), value :: connectivity
+      integer(c_int64_t), intent(inout) :: labels(*)
+      integer(c_int64_t), intent(out) :: npatches
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_get_patch_property(const gfmd_sim *s, int32_t connectivity, int32_t property,
+    !                                 int64_t capacity, double *values, int64_t *npatches);
+    function c_gfmd_get_patch_property(s, connectivity, property, capacity, values, npatches) &
+        bind(C, name="gfmd_get_patch_property") result(r)
+      import :: c_ptr, c_int32_t, c_int64_t, c_double
+      type(c_ptr), value :: s
+      integer(c_int32_t), value :: connectivity, property
+      integer(c_int64_t), value :: capacity
+      real(c_double), intent(inout) :: values(*)
+      integer(c_int64_t), intent(out) :: npatches
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_get_pressure_histogram(const gfmd_sim *s, int64_t nbins, double *range,
+    !                                     double *fraction, double *mean);
+    function c_gfmd_get_pressure_histogram(s, nbins, range, fraction, mean) &
+        bind(C, name="gfmd_get_pressure_histogram") result(r)
+      import :: c_ptr, c_int32_t, c_int64_t, c_double
+      type(c_ptr), value :: s
+      integer(c_int64_t), value :: nbins
+      real(c_double), intent(inout) :: range(2), fraction(*), mean(*)
+      integer(c_int32_t) :: r
+    end function
+
+    ! int32_t gfmd_persson_pressure_distribution(const gfmd_sim *s, double sigma0, int64_t n,
+    !                                            const double *p, double *density);
+    function c_gfmd_persson_pressure_distribution(s, sigma0, n, p, density) &
+        bind(C, name="gfmd_persson_pressure_distribution") result(r)
+      import :: c_ptr, c_int32_t, c_int64_t, c_double
+      type(c_ptr), value :: s
+      real(c_double), value :: sigma0
+      integer(c_int64_t), value :: n
+      real(c_double), intent(in) :: p(*)
+      real(c_double), intent(inout) :: density(*)
       integer(c_int32_t) :: r
     end function
   end interface

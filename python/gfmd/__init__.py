@@ -42,6 +42,8 @@ ESTIMATE = _VALUES["GFMD_PLANNER_ESTIMATE"]
 MEASURE = _VALUES["GFMD_PLANNER_MEASURE"]
 PATIENT = _VALUES["GFMD_PLANNER_PATIENT"]
 DEFAULT_TOL = _VALUES["GFMD_DEFAULT_TOL"]
+_PATCH = {name: _VALUES["GFMD_PATCH_" + name.upper()] for name in
+          ("points", "area", "edges", "perimeter", "centroid_x", "centroid_y", "load")}
 
 
 # ------------------------------------------------------------------ errors
@@ -137,6 +139,73 @@ def least_squares(a, b):
     if st:
         _raise(st, "least_squares")
     return x, rss.value
+
+
+def label_patches(mask, connectivity=4, periodic=True):
+    """Connected-component labels of a boolean (ny, nx) mask: (labels, count), labels an int64
+    array, 0 outside the set and 1..count inside, numbered in the order of each patch's first point
+    (x fastest); connectivity 4 (edge neighbours) or 8 (and the diagonal ones); periodic wraps the
+    grid around (a patch across the border is one patch)."""
+    m = np.ascontiguousarray(np.asarray(mask) != 0, dtype=np.int32)
+    if m.ndim != 2:
+        raise InvalidArgument(_VALUES["GFMD_ERR_INVALID_ARG"], f"mask must be 2-dimensional, got shape {m.shape}")
+    ny, nx = m.shape
+    labels = np.empty((ny, nx), dtype=np.int64)
+    n = ctypes.c_int64()
+    st = _c().gfmd_label_patches(nx, ny, m.ctypes.data_as(_library.c_int32_p), int(connectivity), 1 if periodic else 0,
+                                 labels.ctypes.data_as(_library.c_int64_p), ctypes.byref(n))
+    if st:
+        _raise(st, f"label_patches(connectivity={connectivity})")
+    return labels, n.value
+
+
+class ContactPatches:
+    """The contact patches of a Simulation's configuration (Simulation.contact_patches()): .labels
+    (ny, nx) int64 (0 out of contact, 1..count), .count, and per patch in label order: .points,
+    .area, .edges (the lattice perimeter, in edges), .perimeter (edges' length times pi/4),
+    .centroid ((count, 2): x, y in the cell, periodic mean), .load (the force the patch carries)."""
+
+    def __init__(self, sim, connectivity):
+        self.connectivity = connectivity
+        self.labels = np.empty(sim.shape, dtype=np.int64)
+        n = ctypes.c_int64()
+        sim._call("gfmd_get_contact_patches", int(connectivity), self.labels.ctypes.data_as(_library.c_int64_p),
+                  ctypes.byref(n))
+        self.count = n.value
+        values = {}
+        for name, code in _PATCH.items():
+            v = np.empty(max(self.count, 1))
+            sim._call("gfmd_get_patch_property", int(connectivity), code, self.count,
+                      v.ctypes.data_as(_library.c_double_p), ctypes.byref(n))
+            values[name] = v[:self.count]
+        self.points, self.area, self.edges = values["points"], values["area"], values["edges"]
+        self.perimeter, self.load = values["perimeter"], values["load"]
+        self.centroid = np.column_stack([values["centroid_x"], values["centroid_y"]])
+
+    @property
+    def mean_area(self):
+        """The mean patch area (0 without patches)."""
+        return float(self.area.mean()) if self.count else 0.0
+
+    def size_histogram(self, bins=10):
+        """(edges, counts): the number of patches by area in `bins` logarithmic bins from the
+        smallest patch's area to the largest's (counts sum to .count)."""
+        if self.count == 0:
+            return np.array([]), np.array([], dtype=np.int64)
+        lo, hi = self.area.min(), self.area.max()
+        edges = np.geomspace(lo, hi if hi > lo else lo * 2.0, int(bins) + 1)
+        counts, _ = np.histogram(self.area, bins=edges)
+        return edges, counts
+
+    def perimeter_area_exponent(self):
+        """The exponent D/2 of perimeter ~ area^(D/2) fitted by least squares (ln P against ln A) over
+        the patches of more than one point; NaN with fewer than two such sizes."""
+        keep = self.points > 1
+        if np.unique(self.area[keep]).size < 2:
+            return float("nan")
+        a = np.column_stack([np.ones(keep.sum()), np.log(self.area[keep])])
+        x, _ = least_squares(a, np.log(self.perimeter[keep]))
+        return float(x[1])
 
 
 def import_wisdom(path):
@@ -440,6 +509,45 @@ class Simulation:
         a = ctypes.c_double()
         self._call("gfmd_persson_contact_area", float(sigma0), ctypes.byref(a))
         return a.value
+
+    # plasticity
+    def set_hardness(self, hardness):
+        """Perfect plasticity at the hardness H (math.inf: none, the default; docs/model.md)."""
+        self._call("gfmd_set_hardness", float(hardness))
+
+    @property
+    def hardness(self):
+        return self._scalar("gfmd_get_hardness")
+
+    @property
+    def plasticity(self):
+        """(plastic area fraction, plastic volume): the points yielding now, the volume lost."""
+        a, v = ctypes.c_double(), ctypes.c_double()
+        self._call("gfmd_get_plasticity", ctypes.byref(a), ctypes.byref(v))
+        return a.value, v.value
+
+    # how the contact is made
+    def contact_patches(self, connectivity=4):
+        """The contact patches, a ContactPatches (labels, count, per-patch areas, perimeters, ...)."""
+        return ContactPatches(self, connectivity)
+
+    def pressure_histogram(self, bins=50, range=None):
+        """(edges, fraction, mean): the contact points binned by pressure in `bins` equal bins over
+        `range` (default: the contact's own); fraction sums to A/A0, (fraction * mean).sum() is the
+        mean contact pressure (sigma0 at equilibrium without adhesion); fraction / width is P(p)."""
+        r = np.array([0.0, 0.0] if range is None else [float(range[0]), float(range[1])])
+        fraction, mean = np.empty(int(bins)), np.empty(int(bins))
+        self._call("gfmd_get_pressure_histogram", int(bins), r.ctypes.data_as(_library.c_double_p),
+                   fraction.ctypes.data_as(_library.c_double_p), mean.ctypes.data_as(_library.c_double_p))
+        return np.linspace(r[0], r[1], int(bins) + 1), fraction, mean
+
+    def persson_pressure_distribution(self, p, sigma0):
+        """Persson's P(p) at the load sigma0 at the pressures p (an array of the same shape)."""
+        q = np.ascontiguousarray(p, dtype=np.float64)
+        out = np.empty_like(q)
+        self._call("gfmd_persson_pressure_distribution", float(sigma0), q.size, q.ctypes.data_as(_library.c_double_p),
+                   out.ctypes.data_as(_library.c_double_p))
+        return out
 
     def persson_load(self, rel_area):
         """The load at which Persson's A/A0 is rel_area (the inverse of persson_contact_area)."""
