@@ -24,6 +24,10 @@ gnuplot -e "dir='$pull'" "$root/apps/paper/plot_paper.gp"
 # Pictures of the contact itself (the Python package on the library just built)
 GFMD_LIBRARY="$root/build/libgfmd.so" MPLBACKEND=Agg PYTHONDONTWRITEBYTECODE=1 /usr/bin/python3 \
   "$root/examples/python/contact_maps.py" --out "$out"
+# How the contact is made: patches of the half-space and the thin sheet at the same A/A0, their
+# pressure distributions against Persson's, and a load-unload cycle at a hardness
+GFMD_LIBRARY="$root/build/libgfmd.so" MPLBACKEND=Agg PYTHONDONTWRITEBYTECODE=1 /usr/bin/python3 \
+  "$root/examples/python/contact_patches.py" --out "$out"
 echo
 echo "tables: $out/*.csv"
-echo "plots:  $(cd "$out" && ls fig*.png contact_maps.png | sed "s|^|$out/|" | tr '\n' ' ') $pull/fig8.png"
+echo "plots:  $(cd "$out" && ls fig*.png contact_maps.png contact_patches.png | sed "s|^|$out/|" | tr '\n' ' ') $pull/fig8.png"

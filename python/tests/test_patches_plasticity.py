@@ -1,7 +1,11 @@
 """Contact patches, the pressure distribution and plasticity from Python: hand-made sets whose
 patches are known, a flood fill written here as a second labelling algorithm, the handle's patches
 against its own observables, the histogram's totals, and a punch pressed until it all yields."""
+import os
+import subprocess
+import sys
 from collections import deque
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -120,3 +124,19 @@ def test_punch_pressed_until_all_yields():
             sim.set_solver(gfmd.CG)
         with pytest.raises(gfmd.InvalidArgument):
             sim.set_hardness(float("nan"))
+
+
+def test_demo_panel_runs(tmp_path):
+    """examples/python/contact_patches.py (the demo's panel) in a small mode: the sheet's contact at
+    the half-space's A/A0 splits into more patches, and unloading at a hardness keeps more contact
+    than loading had at the same load."""
+    script = Path(__file__).resolve().parents[2] / "examples" / "python" / "contact_patches.py"
+    out = subprocess.run([sys.executable, str(script), "--n", "64", "--out", str(tmp_path)],
+                         env=dict(os.environ, MPLBACKEND="Agg"), capture_output=True, text=True)
+    assert out.returncode == 0, out.stdout + out.stderr
+    assert (tmp_path / "contact_patches.png").stat().st_size > 1000
+    counts = [int(line.split("patches")[1].split()[0]) for line in out.stdout.splitlines() if " patches " in line]
+    assert len(counts) == 2 and counts[1] > counts[0]
+    cycle = [line for line in out.stdout.splitlines() if line.startswith("hardness")][0]
+    back, up = (float(x.split()[0]) for x in cycle.split("A/A0 ")[1].split(" against "))
+    assert back > up
