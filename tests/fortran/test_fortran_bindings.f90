@@ -18,6 +18,7 @@ program test_fortran_bindings
   call checkpoint_restart()
   call theory_and_fits()
   call wide_seed_and_creation_options()
+  call patches_histogram_and_plasticity()
 
   print '(i0, " passed, ", i0, " failed")', passed, failed
   if (failed > 0) error stop 1
@@ -100,6 +101,66 @@ contains
     call a%destroy()
     call b%destroy()
   end subroutine wide_seed_and_creation_options
+
+  !> Patches, the pressure histogram, Persson's P(p) and plasticity through the module against the
+  !> same calls of the C API on the same handle: equal to the bit; the hand-made sets' known counts.
+  subroutine patches_histogram_and_plasticity()
+    integer, parameter :: nx = 64, ny = 48, nb = 20
+    type(gfmd_sim_t) :: sim
+    type(c_ptr) :: p
+    logical :: board(8, 6)
+    integer :: labels(8, 6), n, lab(nx, ny), i, j, st
+    integer(c_int64_t) :: labc(nx, ny), nc
+    real(dp), allocatable :: area(:)
+    real(dp) :: areac(1000), frac(nb), mean(nb), fracc(nb), meanc(nb), range(2), rangec(2)
+    real(dp) :: pa(3), dens(3), densc(3), plastic, volume, plc, voc, hard, a
+
+    do j = 1, 6
+      do i = 1, 8
+        board(i, j) = mod(i + j, 2) == 0
+      end do
+    end do
+    call gfmd_label_patches(board, labels, n, connectivity=4)
+    call check(n == 24 .and. labels(1, 1) == 1 .and. labels(2, 1) == 0 .and. labels(3, 1) == 2, &
+               'a checkerboard is 24 patches with 4-connectivity, numbered x fastest')
+    call gfmd_label_patches(board, labels, n, connectivity=8)
+    call check(n == 1 .and. all((labels == 1) .eqv. board), 'and one with 8')
+    call gfmd_label_patches(board, labels, n, connectivity=5, stat=st)
+    call check(st == GFMD_ERR_INVALID_ARG, 'connectivity 5 is refused')
+
+    call sim%create(nx, ny, real(nx, dp), real(ny, dp))
+    call sim%generate_selfaffine(0.8_dp, 32.0_dp, 4.0_dp, 1.0_dp, seed=5)
+    call sim%set_hardness(0.4_dp)
+    call sim%set_pressure(0.05_dp)
+    call sim%relax(tol=1e-9_dp)
+    p = gfmd_sim_c_handle(sim)
+    call sim%get_contact_patches(lab, n, connectivity=8)
+    call ok(c_gfmd_get_contact_patches(p, 8_c_int32_t, labc, nc), 'C patches')
+    call check(n == nc .and. all(lab == labc), 'the same labels as C')
+    call sim%get_patch_property(GFMD_PATCH_AREA, area, connectivity=8)
+    call ok(c_gfmd_get_patch_property(p, 8_c_int32_t, int(GFMD_PATCH_AREA, c_int32_t), 1000_c_int64_t, areac, nc), &
+            'C patch areas')
+    call sim%get_contact_area(a)
+    call check(size(area) == n .and. all(area == areac(1:n)), 'the same patch areas as C')
+    call check(sum(area) == a * nx * ny, 'the patch areas sum to A/A0 times the cell')
+    call sim%get_pressure_histogram(frac, mean, range)
+    rangec = 0.0_dp
+    call ok(c_gfmd_get_pressure_histogram(p, int(nb, c_int64_t), rangec, fracc, meanc), 'C histogram')
+    call check(all(frac == fracc) .and. all(mean == meanc) .and. all(range == rangec), 'the same histogram as C')
+    call check(abs(sum(frac) - a) <= 1e-14_dp, 'the histogram sums to A/A0')
+    pa = [0.0_dp, 0.05_dp, 0.2_dp]
+    call sim%persson_pressure_distribution(0.05_dp, pa, dens)
+    call ok(c_gfmd_persson_pressure_distribution(p, 0.05_dp, 3_c_int64_t, pa, densc), 'C P(p)')
+    call check(all(dens == densc) .and. dens(1) == 0.0_dp, 'the same P(p) as C, 0 at p = 0')
+    call sim%get_plasticity(plastic, volume)
+    call ok(c_gfmd_get_plasticity(p, plc, voc), 'C plasticity')
+    call sim%get_hardness(hard)
+    call check(plastic == plc .and. volume == voc .and. plastic > 0.0_dp .and. hard == 0.4_dp, &
+               'the same plastic state as C, some points yielding')
+    call sim%set_hardness(-1.0_dp, stat=st)
+    call check(st == GFMD_ERR_INVALID_ARG, 'a negative hardness is refused')
+    call sim%destroy()
+  end subroutine patches_histogram_and_plasticity
 
   subroutine same_problem_as_c()
     integer, parameter :: nx = 48, ny = 32
