@@ -455,7 +455,11 @@ GFMD_API int32_t gfmd_label_patches(int64_t nx, int64_t ny, const int32_t *mask,
 /**
  * The contact patches of the current configuration: gfmd_label_patches() of the points in contact
  * (zero gap, those gfmd_get_contact_area() counts), periodic.  @p labels (nx*ny) may be NULL to
- * count only.  Whole-grid: refused on a handle distributed over several ranks.
+ * count only.  On a handle distributed over several ranks labels must be NULL (each rank's rows:
+ * gfmd_mpi_get_local_contact_patches()); the count, gfmd_get_patch_property() and
+ * gfmd_get_pressure_histogram() work there, the same on every rank and at any number of ranks
+ * (the contact set is gathered on every rank: 9 B per point of the whole grid, 17 B with the
+ * pressure; GFMD_ERR_NOMEM on every rank if that does not fit on one).
  */
 GFMD_API int32_t gfmd_get_contact_patches(const gfmd_sim *s, int32_t connectivity, int64_t *labels,
                                           int64_t *npatches);

@@ -106,6 +106,18 @@ GFMD_API int32_t gfmd_mpi_get_local_surface(const gfmd_sim *s, double *z, int64_
 GFMD_API int32_t gfmd_mpi_get_local_gap(const gfmd_sim *s, double *gap, int64_t ld);
 GFMD_API int32_t gfmd_mpi_get_local_pressure(const gfmd_sim *s, double *p, int64_t ld);
 
+/**
+ * This rank's rows of the contact patches' labels (see gfmd_get_contact_patches(): the labels of
+ * the whole grid, the same at any number of ranks), into local_ny rows @p ld apart, and their
+ * number.  Collective: the contact set is gathered on every rank (1 B and 8 B of labels per point
+ * of the whole grid, checked on every rank first: GFMD_ERR_NOMEM everywhere if it does not fit
+ * on one).  gfmd_get_contact_patches() with labels = NULL, gfmd_get_patch_property() and
+ * gfmd_get_pressure_histogram() work on a distributed handle the same way.  @p labels may be NULL
+ * on a rank without rows.
+ */
+GFMD_API int32_t gfmd_mpi_get_local_contact_patches(const gfmd_sim *s, int32_t connectivity, int64_t *labels,
+                                                    int64_t ld, int64_t *npatches);
+
 #ifdef __cplusplus
 }
 #endif

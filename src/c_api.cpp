@@ -47,14 +47,10 @@ void relax_call(gfmd::Simulation &m, double tol, int64_t max_steps, int64_t *ste
     }
 }
 
-// The contact patches of a handle's configuration (whole grid), labels into `labels` (nx*ny).
-gfmd::Patches handle_patches(const gfmd::Simulation &m, int32_t connectivity, int64_t *labels) {
-    gfmd::check_connectivity(connectivity);
-    whole_grid(m, "gfmd_get_contact_area (patches need the whole grid)");
-    const auto n = static_cast<std::size_t>(m.grid().real_size());
-    std::vector<unsigned char> in(n);
-    m.contact_set(in.data());
-    return gfmd::label_patches(m.grid().nx(), m.grid().ny(), in.data(), connectivity, true, labels);
+// The contact patches of a handle's configuration, labels of the whole grid into `labels`.
+gfmd::Patches handle_patches(const gfmd::WholeContact &w, const gfmd::Simulation &m, int32_t connectivity,
+                             int64_t *labels) {
+    return gfmd::label_patches(m.grid().nx(), m.grid().ny(), w.in.data(), connectivity, true, labels);
 }
 
 }  // namespace
@@ -410,9 +406,12 @@ int32_t gfmd_label_patches(int64_t nx, int64_t ny, const int32_t *mask, int32_t 
 int32_t gfmd_get_contact_patches(const gfmd_sim *s, int32_t connectivity, int64_t *labels, int64_t *npatches) {
     return guarded(s, args(connectivity, labels, npatches), [&](const gfmd::Simulation &m) {
         need(npatches, "npatches");
+        gfmd::check_connectivity(connectivity);
+        if (labels != nullptr) whole_grid(m, "labels = NULL (count only) or gfmd_mpi_get_local_contact_patches");
+        const gfmd::WholeContact w = gfmd::whole_contact(m, false);
         // labels written only once the call cannot fail
-        std::vector<int64_t> out(static_cast<std::size_t>(m.grid().local_points()));
-        const gfmd::Patches p = handle_patches(m, connectivity, out.data());
+        std::vector<int64_t> out(static_cast<std::size_t>(m.grid().real_size()));
+        const gfmd::Patches p = handle_patches(w, m, connectivity, out.data());
         if (labels != nullptr) std::copy(out.begin(), out.end(), labels);
         *npatches = p.count;
     });
@@ -424,16 +423,15 @@ int32_t gfmd_get_patch_property(const gfmd_sim *s, int32_t connectivity, int32_t
         need(npatches, "npatches");
         if (capacity < 0) fail(GFMD_ERR_INVALID_ARG, "capacity must be >= 0, got " + std::to_string(capacity));
         if (capacity > 0) need(values, "values");
+        gfmd::check_connectivity(connectivity);
+        if (property < GFMD_PATCH_POINTS || property > GFMD_PATCH_LOAD)
+            fail(GFMD_ERR_BAD_ENUM, "unknown patch property " + std::to_string(property));
         const gfmd::FftGrid &g = m.grid();
-        std::vector<int64_t> labels(static_cast<std::size_t>(g.local_points()));
-        const gfmd::Patches p = handle_patches(m, connectivity, labels.data());
-        std::vector<double> pressure;
-        if (property == GFMD_PATCH_LOAD) {
-            pressure.resize(labels.size());
-            m.pressure(pressure.data());
-        }
+        const gfmd::WholeContact w = gfmd::whole_contact(m, property == GFMD_PATCH_LOAD);
+        std::vector<int64_t> labels(static_cast<std::size_t>(g.real_size()));
+        const gfmd::Patches p = handle_patches(w, m, connectivity, labels.data());
         const std::vector<double> v = gfmd::patch_values(p, property, g.nx(), g.ny(), g.lx(), g.ly(), labels.data(),
-                                                         pressure.data());
+                                                         w.pressure.data());
         const std::size_t written = std::min(v.size(), static_cast<std::size_t>(capacity));
         std::copy(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(written), values);
         *npatches = p.count;
@@ -448,15 +446,12 @@ int32_t gfmd_get_pressure_histogram(const gfmd_sim *s, int64_t nbins, double *ra
         need(range, "range");
         need(fraction, "fraction");
         need(mean, "mean");
-        whole_grid(m, "gfmd_mpi_get_local_pressure");
         if (nbins < 1) fail(GFMD_ERR_INVALID_ARG, "nbins must be >= 1, got " + std::to_string(nbins));
-        const auto n = static_cast<std::size_t>(m.grid().real_size());
-        std::vector<unsigned char> in(n);
-        std::vector<double> p(n), fr(static_cast<std::size_t>(nbins)), me(static_cast<std::size_t>(nbins));
-        m.contact_set(in.data());
-        m.pressure(p.data());
+        const gfmd::WholeContact w = gfmd::whole_contact(m, true);
+        std::vector<double> fr(static_cast<std::size_t>(nbins)), me(static_cast<std::size_t>(nbins));
         double lo = range[0], hi = range[1];
-        gfmd::pressure_histogram(static_cast<int64_t>(n), in.data(), p.data(), nbins, lo, hi, fr.data(), me.data());
+        gfmd::pressure_histogram(m.grid().real_size(), w.in.data(), w.pressure.data(), nbins, lo, hi, fr.data(),
+                                 me.data());
         std::copy(fr.begin(), fr.end(), fraction);
         std::copy(me.begin(), me.end(), mean);
         range[0] = lo;

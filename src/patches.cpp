@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <new>
 #include <string>
 
 #include "error.hpp"
+#include "fields.hpp"
 #include "gfmd.h"
+#include "simulation.hpp"
 
 namespace gfmd {
 
@@ -142,6 +145,47 @@ void pressure_histogram(int64_t n, const unsigned char *in, const double *pressu
         fraction[k] = count[k] / static_cast<double>(n);
         mean[k] = count[k] > 0.0 ? sum[k] / count[k] : 0.0;
     }
+}
+
+
+WholeContact whole_contact(const Simulation &m, bool with_pressure) {
+    const FftGrid &g = m.grid();
+    const auto n = static_cast<std::size_t>(g.real_size()), local = static_cast<std::size_t>(g.local_points());
+    WholeContact w;
+    std::vector<unsigned char> in;
+    std::vector<double> p;
+    g.on_all_ranks([&] {
+        const double bytes = (with_pressure ? 9.0 : 1.0) + 8.0;  // with the labels the caller makes
+        if (g.ranks() > 1) {
+            if (8.0 * static_cast<double>(n) > 2147483647.0)
+                fail(GFMD_ERR_STATE, "the contact analysis gathers the whole grid on every rank: " +
+                                         std::to_string(g.nx()) + " x " + std::to_string(g.ny()) +
+                                         " is beyond its 2 GB gather");
+            check_memory(g.nx(), g.ny(), bytes);
+        }
+        try {
+            w.in.resize(n);
+            if (with_pressure) w.pressure.resize(n);
+            if (g.ranks() > 1) {
+                in.resize(local);
+                if (with_pressure) p.resize(local);
+            }
+        } catch (const std::bad_alloc &) {
+            fail(GFMD_ERR_NOMEM, "the whole grid's contact set does not fit in this rank's memory");
+        }
+    });
+    if (g.ranks() <= 1) {
+        m.contact_set(w.in.data());
+        if (with_pressure) m.pressure(w.pressure.data());
+        return w;
+    }
+    m.contact_set(in.data());
+    g.gather_rows(in.data(), static_cast<std::size_t>(g.nx()), w.in.data());
+    if (with_pressure) {
+        m.pressure(p.data());
+        g.gather_rows(p.data(), 8 * static_cast<std::size_t>(g.nx()), w.pressure.data());
+    }
+    return w;
 }
 
 double persson_pressure_density(double variance, double sigma0, double p) {

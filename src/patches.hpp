@@ -50,6 +50,19 @@ std::vector<double> patch_values(const Patches &patches, int32_t property, int64
 void pressure_histogram(int64_t n, const unsigned char *in, const double *pressure, int64_t nbins, double &lo,
                         double &hi, double *fraction, double *mean);
 
+class Simulation;
+
+// The whole grid's contact set (and pressure) of a handle, on every rank: a distributed handle's
+// rows are gathered (1 B/pt, and 8 B/pt with the pressure, of the whole grid on each rank), after
+// every rank agreed that they fit, so that no rank waits in the gather for one that failed: a
+// grid beyond the gather's 2 GB is refused with GFMD_ERR_STATE, one beyond the memory with
+// GFMD_ERR_NOMEM, on every rank.  Collective.
+struct WholeContact {
+    std::vector<unsigned char> in;
+    std::vector<double> pressure;  // with_pressure only
+};
+WholeContact whole_contact(const Simulation &m, bool with_pressure);
+
 // Persson's distribution of the contact pressure (J. Chem. Phys. 115, 3840 (2001), Eq. 17 with
 // the absorbing boundary P(0) = 0 of the non-adhesive contact): a diffusion in p of variance V
 // from the delta at sigma0, P(p) = [N(p - sigma0) - N(p + sigma0)] for p >= 0 (0 below), N the

@@ -12,6 +12,7 @@
 #include "../fft_grid.hpp"
 #include "../fields.hpp"
 #include "../fftw_planner.hpp"
+#include "../patches.hpp"
 #include "../simulation.hpp"
 #include "gfmd_mpi.h"
 #include "mpi_state.hpp"
@@ -184,6 +185,27 @@ int32_t gfmd_mpi_get_local_gap(const gfmd_sim *s, double *gap, int64_t ld) {
 }
 int32_t gfmd_mpi_get_local_pressure(const gfmd_sim *s, double *p, int64_t ld) {
     return local_field(s, p, ld, "p", [](const gfmd::Simulation &m, double *o) { m.pressure(o); });
+}
+
+int32_t gfmd_mpi_get_local_contact_patches(const gfmd_sim *s, int32_t connectivity, int64_t *labels, int64_t ld,
+                                           int64_t *npatches) {
+    // Collective; labels and ld are this rank's (not fingerprinted: NULL on a rank without rows)
+    return gfmd::capi::guarded(s, gfmd::capi::args(connectivity, npatches), [&](const gfmd::Simulation &m) {
+        const gfmd::FftGrid &g = m.grid();
+        const int64_t nx = g.nx(), rows = g.local_mode_rows(), y0 = g.first_row();
+        g.on_all_ranks([&] {
+            need(npatches, "npatches");
+            gfmd::check_connectivity(connectivity);
+            if (ld < nx) fail(GFMD_ERR_INVALID_ARG, "ld = " + std::to_string(ld) + " is below nx = " + std::to_string(nx));
+            if (rows > 0) need(labels, "labels");
+        });
+        const gfmd::WholeContact w = gfmd::whole_contact(m, false);
+        std::vector<int64_t> all(static_cast<std::size_t>(g.real_size()));
+        const gfmd::Patches p = gfmd::label_patches(nx, g.ny(), w.in.data(), connectivity, true, all.data());
+        for (int64_t r = 0; r < rows; ++r)
+            std::copy(all.data() + (y0 + r) * nx, all.data() + (y0 + r + 1) * nx, labels + r * ld);
+        *npatches = p.count;
+    });
 }
 
 }  // extern "C"

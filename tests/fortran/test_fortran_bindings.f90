@@ -143,6 +143,7 @@ contains
     call sim%get_contact_area(a)
     call check(size(area) == n .and. all(area == areac(1:n)), 'the same patch areas as C')
     call check(sum(area) == a * nx * ny, 'the patch areas sum to A/A0 times the cell')
+    range = 0.0_dp
     call sim%get_pressure_histogram(frac, mean, range)
     rangec = 0.0_dp
     call ok(c_gfmd_get_pressure_histogram(p, int(nb, c_int64_t), rangec, fracc, meanc), 'C histogram')

@@ -148,14 +148,15 @@ int main(int argc, char **argv) {
     expect_everywhere(s, gfmd_get_gap(s, whole), expect_whole, "gfmd_get_gap");
     expect_everywhere(s, gfmd_get_pressure(s, whole), expect_whole, "gfmd_get_pressure");
     if (size > 1) expect_everywhere(s, gfmd_set_heights(s, whole), GFMD_ERR_STATE, "gfmd_set_heights");
-    /* the contact's patches and pressure histogram need the whole grid too */
+    /* the contact's labels of the whole grid too (the count, the patches' properties and the
+     * pressure histogram work on any number of ranks: test_mpi_patches) */
     int64_t *labels = malloc(sizeof(int64_t) * kNx * kNy), npatches = 0;
-    double range[2] = {0.0, 0.0}, fraction[8], mean[8];
     expect_everywhere(s, gfmd_get_contact_patches(s, 4, labels, &npatches), expect_whole, "gfmd_get_contact_patches");
-    expect_everywhere(s, gfmd_get_patch_property(s, 4, GFMD_PATCH_AREA, 0, NULL, &npatches),
-                      size > 1 ? GFMD_ERR_STATE : (npatches > 0 ? GFMD_ERR_TRUNCATED : GFMD_OK), "gfmd_get_patch_property");
-    expect_everywhere(s, gfmd_get_pressure_histogram(s, 8, range, fraction, mean), expect_whole,
-                      "gfmd_get_pressure_histogram");
+    expect_everywhere(s, gfmd_get_contact_patches(s, 4, NULL, &npatches), GFMD_OK, "gfmd_get_contact_patches, count");
+    expect_everywhere(s, gfmd_mpi_get_local_contact_patches(s, 4, labels, rank == 0 ? kNx - 1 : kNx, &npatches),
+                      GFMD_ERR_INVALID_ARG, "local patch labels with ld < nx on rank 0");
+    expect_everywhere(s, gfmd_mpi_get_local_contact_patches(s, rank == victim ? 5 : 4, labels, kNx, &npatches),
+                      GFMD_ERR_INVALID_ARG, "connectivity 5 on the last rank");
     free(labels);
     /* plasticity: refused on several ranks, taken on one (and switched off again) */
     expect_everywhere(s, gfmd_set_hardness(s, 0.5), expect_whole, "gfmd_set_hardness");
