@@ -39,7 +39,7 @@ void pressure(const Params &p, const Fields &fields, double *out) {
     }
 }
 
-double persson_variance(const FftGrid &grid, const Body &body, const Fields &fields) {
+double persson_variance(const FftGrid &grid, const Body &body, const Fields &fields, const double *h) {
     // In full contact the surface follows the substrate, so the stress modes are sigma(q) =
     // h(q)/G(q) with h(q) the normalized Fourier coefficients; their variance (q != 0, full plane,
     // Parseval) is the width of Persson's pressure distribution at full magnification.
@@ -49,7 +49,7 @@ double persson_variance(const FftGrid &grid, const Body &body, const Fields &fie
     // an allocation, with its NOMEM, in a setter.
     assert(!fields.work_holds_z);
     std::complex<double> *hq = fields.work.data();
-    grid.forward(fields.h.data(), hq);
+    grid.forward(h != nullptr ? h : fields.h.data(), hq);
     const int64_t nxh = grid.nxh();
     const double inv_n = 1.0 / static_cast<double>(grid.real_size());
     const double v = grid.sum_mode_rows<1>([&](int64_t r0, int64_t r1, double *acc) {
@@ -66,13 +66,13 @@ double persson_variance(const FftGrid &grid, const Body &body, const Fields &fie
     return v;
 }
 
-double substrate_shortest_wave(const FftGrid &grid, const Fields &fields) {
+double substrate_shortest_wave(const FftGrid &grid, const Fields &fields, const double *h) {
     // A self-affine substrate's roll-off q_s (0.9996-1.0 q_s for H = 0.3-1, lambda_s = 2-8 a,
     // 128^2-2048^2), the grid's corner for one rough down to the grid spacing (a measured
     // topography's noise).  Bisection on the tail's share over h's transform.
     assert(!fields.work_holds_z);
     std::complex<double> *hq = fields.work.data();
-    grid.forward(fields.h.data(), hq);
+    grid.forward(h != nullptr ? h : fields.h.data(), hq);
     const int64_t nxh = grid.nxh();
     const double inv_n = 1.0 / static_cast<double>(grid.real_size());
     const auto slope_above = [&](double qt) {  // the slope variance at |q| > qt

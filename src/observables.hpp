@@ -19,11 +19,12 @@ void pressure(const Params &p, const Fields &fields, double *out);
 
 // Persson's theory (non-adhesive): the variance of the contact pressure the body would carry in
 // full contact, sum over q != 0 of (|h(q)| / G(q))^2; throws GFMD_ERR_RANGE if it overflows.
-double persson_variance(const FftGrid &grid, const Body &body, const Fields &fields);
+// h: the substrate's heights (nullptr: fields.h).
+double persson_variance(const FftGrid &grid, const Body &body, const Fields &fields, const double *h = nullptr);
 // The substrate's shortest wave: the |q| below which all but 1e-4 of its slope variance (the
 // full plane's sum of q^2 |h(q)|^2) lies, to 1e-4 of the grid's corner; the corner itself for a
 // flat substrate.  One transform of h in the solvers' scratch, as persson_variance.
-double substrate_shortest_wave(const FftGrid &grid, const Fields &fields);
+double substrate_shortest_wave(const FftGrid &grid, const Fields &fields, const double *h = nullptr);
 // A/A0 = erf(sigma0 / sqrt(2 variance)) (Persson, J. Chem. Phys. 115, 3840 (2001)); full contact
 // under any load on a flat substrate.  sigma0 finite and >= 0.
 double persson_contact_area(double variance, double sigma0);

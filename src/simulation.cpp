@@ -111,6 +111,8 @@ void Simulation::refresh_forces() {
 void Simulation::commit_plastic_step() {
     if (!plastic_) return;
     commit(grid_, *plastic_, fields_);
+    persson_v_.reset();  // functions of the substrate, which has flattened
+    substrate_q_.reset();
     refresh_forces();
 }
 
@@ -335,6 +337,8 @@ void Simulation::set_hardness(double hardness) {
     require_solver_takes(grid_, asked, params_.solver);
     if (on && plastic_) {  // a new hardness: the step made at the old one stands
         commit(grid_, *plastic_, fields_);
+        persson_v_.reset();
+        substrate_q_.reset();
         params_.hardness = hardness;
         refresh_forces();
         solver_->restart(dynamics_);
@@ -352,10 +356,14 @@ void Simulation::set_hardness(double hardness) {
         [&] {
             params_.hardness = hardness;
             std::swap(plastic_, other);
+            persson_v_.reset();  // off: the flattened substrate is the substrate
+            substrate_q_.reset();
         },
         [&] {
             params_ = old;
             std::swap(plastic_, other);
+            persson_v_.reset();
+            substrate_q_.reset();
         });
 }
 
@@ -412,7 +420,7 @@ ChoiceFeatures Simulation::choice_features() const {
 constexpr double kRuleWaveRatio = 2.0 * 1.4142135623730951;
 
 double Simulation::roughness_thickness() const {
-    if (!substrate_q_) substrate_q_ = substrate_shortest_wave(grid_, fields_);
+    if (!substrate_q_) substrate_q_ = substrate_shortest_wave(grid_, fields_, step_substrate());
     return kRuleWaveRatio * *substrate_q_ * params_.width;
 }
 
@@ -462,7 +470,11 @@ void Simulation::reset() {
     // Even a flat surface can overflow: the FFT's rounding leaves modes of order eps * max h,
     // which an extreme E* turns into infinite stresses (a fuzz finding). Undo if so.
     // with hardness the substrate keeps the shape the body pressed into it
-    if (plastic_) commit(grid_, *plastic_, fields_);
+    if (plastic_) {
+        commit(grid_, *plastic_, fields_);
+        persson_v_.reset();
+        substrate_q_.reset();
+    }
     undo_.save(fields_);
     change(
         "resetting the surface",
@@ -526,7 +538,7 @@ void Simulation::contact_set(unsigned char *out) const {
     for (std::size_t i = 0; i < fields_.z.size(); ++i) out[i] = fields_.z[i] <= fields_.h[i] ? 1 : 0;
 }
 double Simulation::persson_variance() const {
-    if (!persson_v_) persson_v_ = gfmd::persson_variance(grid_, body_, fields_);
+    if (!persson_v_) persson_v_ = gfmd::persson_variance(grid_, body_, fields_, step_substrate());
     return *persson_v_;
 }
 double Simulation::persson_contact_area(double sigma0) const {

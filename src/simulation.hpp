@@ -115,6 +115,9 @@ private:
     void change_substrate(RealBuffer &&h);
     void apply_control();  // under displacement control: z projected onto mean(z) = mean_z
     void commit_plastic_step();  // with hardness: a change of load begins a new plastic step
+    // The substrate the theory and the automatic choice see: with hardness the one the load step
+    // began from (it does not change within the step), else nullptr (fields_.h)
+    const double *step_substrate() const { return plastic_ ? plastic_->substrate.data() : nullptr; }
     // GFMD_SOLVER_AUTO's choice for the current problem (solver_choice.hpp), or the one requested
     int32_t resolve_solver(int32_t requested) const;
     ChoiceFeatures choice_features() const;
