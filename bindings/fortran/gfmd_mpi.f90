@@ -25,7 +25,7 @@ module gfmd_mpi
 
   public :: gfmd_sim_create_mpi, gfmd_sim_load_mpi, gfmd_mpi_get_local_grid, gfmd_mpi_get_ranks
   public :: gfmd_mpi_set_local_heights, gfmd_mpi_get_local_heights, gfmd_mpi_get_local_surface
-  public :: gfmd_mpi_get_local_gap, gfmd_mpi_get_local_pressure
+  public :: gfmd_mpi_get_local_gap, gfmd_mpi_get_local_pressure, gfmd_mpi_get_local_contact_patches
 
   !> Create a distributed simulation on a communicator (collective).
   interface gfmd_sim_create_mpi
@@ -110,6 +110,18 @@ module gfmd_mpi
       integer(c_int64_t), value :: ld
       integer(c_int32_t) :: st
     end function c_get_pressure
+    ! int32_t gfmd_mpi_get_local_contact_patches(const gfmd_sim *s, int32_t connectivity, int64_t *labels,
+    !                                            int64_t ld, int64_t *npatches);
+    function c_get_local_contact_patches(s, connectivity, labels, ld, npatches) &
+        bind(C, name='gfmd_mpi_get_local_contact_patches') result(st)
+      import :: c_ptr, c_int64_t, c_int32_t
+      type(c_ptr), value :: s
+      integer(c_int32_t), value :: connectivity
+      integer(c_int64_t), intent(inout) :: labels(*)
+      integer(c_int64_t), value :: ld
+      integer(c_int64_t), intent(out) :: npatches
+      integer(c_int32_t) :: st
+    end function c_get_local_contact_patches
   end interface
 
   abstract interface
@@ -276,5 +288,29 @@ contains
     character(*), intent(out), optional :: errmsg
     call get_local(sim, c_get_pressure, p, 'get_local_pressure', stat, errmsg)
   end subroutine gfmd_mpi_get_local_pressure
+
+  !> This rank's rows of the contact patches' labels into labels(nx, local_ny) (default integers;
+  !> the labels of the whole grid, the same at any number of ranks) and their number.  Collective.
+  subroutine gfmd_mpi_get_local_contact_patches(sim, labels, npatches, connectivity, stat, errmsg)
+    type(gfmd_sim_t), intent(in) :: sim
+    integer, intent(out) :: labels(:, :)
+    integer, intent(out) :: npatches
+    integer, intent(in), optional :: connectivity
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    integer(c_int64_t), allocatable :: lab(:, :)
+    integer(c_int64_t) :: n
+    integer(c_int32_t) :: st, conn
+    conn = 4
+    if (present(connectivity)) conn = int(connectivity, c_int32_t)
+    npatches = 0
+    allocate (lab(max(size(labels, 1), 1), max(size(labels, 2), 1)))
+    st = c_get_local_contact_patches(gfmd_sim_c_handle(sim), conn, lab, int(max(size(labels, 1), 1), c_int64_t), n)
+    if (st == GFMD_OK) then
+      labels = int(lab(1:size(labels, 1), 1:size(labels, 2)))
+      npatches = int(n)
+    end if
+    call finish(gfmd_sim_c_handle(sim), st, 'get_local_contact_patches', stat, errmsg)
+  end subroutine gfmd_mpi_get_local_contact_patches
 
 end module gfmd_mpi

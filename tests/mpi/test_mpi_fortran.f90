@@ -67,6 +67,29 @@ program test_mpi_fortran
   call expect(area_a == area_b .and. ea == eb .and. all(za == zb), 'type(MPI_Comm) and integer handles: same bits')
   call expect(area_a > 0 .and. area_a < 1, 'a partial contact')
 
+  ! The local rows of the patch labels: those of a serial simulation of the same surface's contact
+  ! (its labels of the gathered surface's contact set), and the same count on every rank.
+  block
+    integer, allocatable :: lab(:, :), wlab(:, :), all_lab(:, :)
+    logical, allocatable :: contact(:, :)
+    real(dp), allocatable :: gap(:, :), all_gap(:, :)
+    integer :: n, m, counts(64), displs(64), r
+    allocate (lab(nx, local_ny), gap(nx, local_ny), all_lab(nx, ny), all_gap(nx, ny), contact(nx, ny), wlab(nx, ny))
+    call gfmd_mpi_get_local_contact_patches(a, lab, n, connectivity=8)
+    call gfmd_mpi_get_local_gap(a, gap)
+    call MPI_Allgather(nx * local_ny, 1, MPI_INTEGER, counts, 1, MPI_INTEGER, MPI_COMM_WORLD)
+    displs(1) = 0
+    do r = 2, size
+      displs(r) = displs(r - 1) + counts(r - 1)
+    end do
+    call MPI_Allgatherv(gap, nx * local_ny, MPI_DOUBLE_PRECISION, all_gap, counts, displs, MPI_DOUBLE_PRECISION, &
+                        MPI_COMM_WORLD)
+    call MPI_Allgatherv(lab, nx * local_ny, MPI_INTEGER, all_lab, counts, displs, MPI_INTEGER, MPI_COMM_WORLD)
+    contact = all_gap <= 0
+    call gfmd_label_patches(contact, wlab, m, connectivity=8)
+    call expect(n == m .and. n > 0 .and. all(all_lab == wlab), 'local patch labels are those of the whole contact')
+  end block
+
   call a%get_surface(whole, stat=st, errmsg=msg)
   if (size > 1) then
     call expect(st == GFMD_ERR_STATE, 'whole-grid getter refused on several ranks')
