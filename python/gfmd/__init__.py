@@ -323,18 +323,24 @@ class Simulation:
     def set_poisson(self, nu):
         self._call("gfmd_set_poisson", float(nu))
 
-    def _field_in(self, h):
-        if not isinstance(h, np.ndarray):
-            raise InvalidArgument(_VALUES["GFMD_ERR_INVALID_ARG"], "heights must be a numpy array")
-        if h.dtype != np.float64 or h.shape != self._shape or not h.flags.c_contiguous:
+    def _field_in(self, h, what="heights"):
+        """h as the (ny, nx) C-contiguous float64 array the library reads: h itself if it is one
+        (no copy), else one copy made by numpy (any array-like: lists, other dtypes, strides,
+        Fortran order, read-only arrays, memoryviews)."""
+        try:
+            a = np.asarray(h, dtype=np.float64)
+        except (TypeError, ValueError) as e:
+            raise InvalidArgument(_VALUES["GFMD_ERR_INVALID_ARG"], f"{what}: not convertible to float64: {e}") from None
+        if a.shape != self._shape:
             raise InvalidArgument(_VALUES["GFMD_ERR_INVALID_ARG"],
-                                  f"heights must be a C-contiguous float64 array of shape {self._shape} (ny, nx), "
-                                  f"got {h.dtype} {h.shape}{'' if h.flags.c_contiguous else ' non-contiguous'}")
-        return h.ctypes.data_as(_library.c_double_p)
+                                  f"{what} must have shape {self._shape} (ny, nx), got {a.shape}")
+        return np.ascontiguousarray(a)
 
     def set_heights(self, h):
-        """The substrate from a (ny, nx) float64 C-contiguous array (read in place, not copied)."""
-        self._call("gfmd_set_heights", self._field_in(h))
+        """The substrate from any (ny, nx) array-like (a C-contiguous float64 array is read in place,
+        anything else converted once)."""
+        a = self._field_in(h)
+        self._call("gfmd_set_heights", a.ctypes.data_as(_library.c_double_p))
 
     def generate_selfaffine(self, hurst, lambda_r, lambda_s, rms_gradient, seed, distribution=None):
         """A self-affine substrate (the seed paper's Sec. 2.3); the same seed gives C's surface."""
@@ -480,26 +486,32 @@ class Simulation:
     def adhesive_energy(self):
         return self._energies()[1]
 
-    def _field_out(self, name):
-        out = np.empty(self._shape)
+    def _field_out(self, name, out=None):
+        if out is None:
+            out = np.empty(self._shape)
+        elif not (isinstance(out, np.ndarray) and out.dtype == np.float64 and out.shape == self._shape
+                  and out.flags.c_contiguous and out.flags.writeable):
+            raise InvalidArgument(_VALUES["GFMD_ERR_INVALID_ARG"],
+                                  f"out must be a writeable C-contiguous float64 array of shape {self._shape}, got "
+                                  f"{getattr(out, 'dtype', type(out).__name__)} {getattr(out, 'shape', '')}")
         self._call(name, out.ctypes.data_as(_library.c_double_p))
         return out
 
-    def gap(self):
-        """A fresh (ny, nx) array of z - h."""
-        return self._field_out("gfmd_get_gap")
+    def gap(self, out=None):
+        """The (ny, nx) array of z - h: a fresh one, or written into out (and returned)."""
+        return self._field_out("gfmd_get_gap", out)
 
-    def surface(self):
-        """A fresh (ny, nx) array of the elastic surface z."""
-        return self._field_out("gfmd_get_surface")
+    def surface(self, out=None):
+        """The (ny, nx) array of the elastic surface z (fresh, or into out)."""
+        return self._field_out("gfmd_get_surface", out)
 
-    def pressure(self):
-        """A fresh (ny, nx) array of the pressure the substrate exerts (contact minus adhesion)."""
-        return self._field_out("gfmd_get_pressure")
+    def pressure(self, out=None):
+        """The (ny, nx) array of the pressure the substrate exerts, contact minus adhesion (fresh, or into out)."""
+        return self._field_out("gfmd_get_pressure", out)
 
-    def heights(self):
-        """A fresh (ny, nx) array of the substrate heights."""
-        return self._field_out("gfmd_get_heights")
+    def heights(self, out=None):
+        """The (ny, nx) array of the substrate heights (fresh, or into out)."""
+        return self._field_out("gfmd_get_heights", out)
 
     def persson_variance(self):
         return self._scalar("gfmd_persson_variance")
