@@ -321,6 +321,24 @@ static void cg_refusals_change_nothing(void **state) {
     gfmd_sim_destroy(&b);
 }
 
+/* Twins a and b on Verlet at 50 times its automatic time step, far beyond the stability limit:
+ * a's run diverges, restoring the configuration and the solver's state of the call's start, and
+ * (both back at a stable step) a is compared with b. */
+static void diverge_one(gfmd_sim *a, gfmd_sim *b, const char *what) {
+    double dt = 0.0;
+    TS_OK(a, gfmd_get_dynamics(a, &dt, NULL));
+    gfmd_sim *both[2] = {a, b};
+    for (int i = 0; i < 2; ++i) {
+        TS_OK(both[i], gfmd_set_solver(both[i], GFMD_SOLVER_VERLET));
+        TS_OK(both[i], gfmd_step(both[i], 7));
+        TS_OK(both[i], gfmd_set_timestep(both[i], 50.0 * dt));
+    }
+    assert_int_equal(gfmd_step(a, 100000), GFMD_ERR_DIVERGED);
+    TS_OK(a, gfmd_set_timestep(a, dt));
+    TS_OK(b, gfmd_set_timestep(b, dt));
+    same_state(a, b, what);
+}
+
 /* With a hardness, on twins without adhesion that have yielded (a load step half made): the
  * calls the plastic state refuses, and the bad values, change nothing -- the substrate of the
  * step's start, the yielding points and the plastic volume included. */
@@ -353,18 +371,7 @@ static void plastic_refusals_change_nothing(void **state) {
     assert_true(plastic > 0.0); /* points are yielding: the state the refusals must keep */
     same_state(a, b, "the plastic steps");
     run_calls(a, b, calls, sizeof calls / sizeof calls[0]);
-    /* and a plastic run that diverges (Verlet at 50 times its step) */
-    double dt = 0.0;
-    TS_OK(a, gfmd_get_dynamics(a, &dt, NULL));
-    for (int i = 0; i < 2; ++i) {
-        TS_OK(both[i], gfmd_set_solver(both[i], GFMD_SOLVER_VERLET));
-        TS_OK(both[i], gfmd_step(both[i], 7));
-        TS_OK(both[i], gfmd_set_timestep(both[i], 50.0 * dt));
-    }
-    assert_int_equal(gfmd_step(a, 100000), GFMD_ERR_DIVERGED);
-    TS_OK(a, gfmd_set_timestep(a, dt));
-    TS_OK(b, gfmd_set_timestep(b, dt));
-    same_state(a, b, "a diverged plastic run");
+    diverge_one(a, b, "a diverged plastic run"); /* and a plastic run that diverges */
     gfmd_sim_destroy(&a);
     gfmd_sim_destroy(&b);
 }
@@ -374,18 +381,7 @@ static void plastic_refusals_change_nothing(void **state) {
 static void divergence_changes_nothing(void **state) {
     (void)state;
     gfmd_sim *a = make_twin(), *b = make_twin();
-    double dt = 0.0;
-    TS_OK(a, gfmd_get_dynamics(a, &dt, NULL));
-    gfmd_sim *both[2] = {a, b};
-    for (int i = 0; i < 2; ++i) {
-        TS_OK(both[i], gfmd_set_solver(both[i], GFMD_SOLVER_VERLET));
-        TS_OK(both[i], gfmd_step(both[i], 7));
-        TS_OK(both[i], gfmd_set_timestep(both[i], 50.0 * dt));
-    }
-    assert_int_equal(gfmd_step(a, 100000), GFMD_ERR_DIVERGED);
-    TS_OK(a, gfmd_set_timestep(a, dt)); /* both back to a stable step, for the steps of same_state */
-    TS_OK(b, gfmd_set_timestep(b, dt));
-    same_state(a, b, "a diverged run");
+    diverge_one(a, b, "a diverged run");
     gfmd_sim_destroy(&a);
     gfmd_sim_destroy(&b);
 }
