@@ -190,15 +190,17 @@ static void dent_left_by_loading_and_unloading(void **state) {
 }
 
 /* A rough contact with a hardness no point reaches follows the elastic run bit for bit, steps
- * included; one it does reach caps the pressure and flattens the substrate's tops. */
+ * included; one it does reach caps the pressure and flattens the substrate's tops, with the same
+ * bits on two threads as on one. */
 static void rough_contact_with_and_without_yield(void **state) {
     (void)state;
-    gfmd_sim *s[3];
-    const double hards[3] = {INFINITY, 1e6, 0.3};
-    int64_t steps[3];
-    double *z[3];
-    for (int k = 0; k < 3; ++k) {
-        s[k] = ts_create(64, 64, 64.0, 64.0);
+    gfmd_sim *s[4];
+    const double hards[4] = {INFINITY, 1e6, 0.3, 0.3};
+    int64_t steps[4];
+    double *z[4];
+    for (int k = 0; k < 4; ++k) {
+        s[k] = NULL;
+        assert_int_equal(gfmd_sim_create_ex(64, 64, 64.0, 64.0, k == 3 ? 2 : 1, GFMD_PLANNER_ESTIMATE, &s[k]), GFMD_OK);
         TS_OK(s[k], gfmd_generate_selfaffine(s[k], 0.8, 32.0, 4.0, 1.0, 11, GFMD_DIST_UNIFORM));
         TS_OK(s[k], gfmd_set_solver(s[k], GFMD_SOLVER_FIRE));
         if (!isinf(hards[k])) TS_OK(s[k], gfmd_set_hardness(s[k], hards[k]));
@@ -209,6 +211,8 @@ static void rough_contact_with_and_without_yield(void **state) {
     }
     assert_int_equal(steps[0], steps[1]);
     assert_memory_equal(z[0], z[1], sizeof(double) * 64 * 64);
+    assert_int_equal(steps[2], steps[3]);
+    assert_memory_equal(z[2], z[3], sizeof(double) * 64 * 64);
     double plastic = 0.0, volume = 0.0, a0 = 0.0, a2 = 0.0;
     TS_OK(s[2], gfmd_get_plasticity(s[2], &plastic, &volume));
     TS_OK(s[0], gfmd_get_contact_area(s[0], &a0));
@@ -226,7 +230,7 @@ static void rough_contact_with_and_without_yield(void **state) {
     }
     assert_true(fabs(sum / (64 * 64) / 0.05 - 1.0) <= 1e-7);
     free(p);
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < 4; ++k) {
         free(z[k]);
         gfmd_sim_destroy(&s[k]);
     }
