@@ -4,8 +4,8 @@
  * point yields (the force is then H times the contact area), the volume balance of a dent left by
  * loading and unloading (the heights the handle reports against the plastic volume it reports),
  * the shakedown of reloading (elastic: no new plastic volume, the loaded contact again), the
- * elastic solution bit for bit where no point reaches H, and checkpoints that resume the plastic
- * run bit for bit. */
+ * elastic solution bit for bit where no point reaches H, the plastic run the same on one thread and
+ * two, and checkpoints that resume the plastic run bit for bit. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
