@@ -56,6 +56,8 @@ static double max_pressure(gfmd_sim *s) {
  * 0.88 F_y (p0 = 0.958 H) no point may yield, at 1.12 F_y (p0 = 1.038 H) the centre must. */
 static void hertz_onset_of_yield(void **state) {
     (void)state;
+    /* under valgrind: the sphere's yielding steps are the dent's test's, which runs there */
+    if (ts_valgrind()) skip();
     const double hard = hardness();
     gfmd_sim *s = sphere(NULL), *e = sphere(NULL);
     TS_OK(s, gfmd_set_hardness(s, hard));
@@ -241,8 +243,9 @@ static void checkpoint_resumes_the_plastic_run(void **state) {
     const char *path = "plastic.gfmd";
     gfmd_sim *a = sphere(NULL), *b = NULL;
     TS_OK(a, gfmd_set_hardness(a, hardness()));
-    relax_to(a, 2.0 * yield_force());
-    TS_OK(a, gfmd_set_pressure(a, 3.0 * yield_force() / (N * N))); /* a second step, half made */
+    TS_OK(a, gfmd_set_pressure(a, 2.0 * yield_force() / (N * N))); /* a first step, 150 steps in */
+    TS_OK(a, gfmd_step(a, 150));
+    TS_OK(a, gfmd_set_pressure(a, 3.0 * yield_force() / (N * N))); /* a second one, begun */
     TS_OK(a, gfmd_step(a, 40));
     TS_OK(a, gfmd_sim_save(a, path));
     char msg[256] = "";
@@ -250,8 +253,8 @@ static void checkpoint_resumes_the_plastic_run(void **state) {
     double hb = 0.0;
     TS_OK(b, gfmd_get_hardness(b, &hb));
     assert_true(hb == hardness());
-    TS_OK(a, gfmd_step(a, 300));
-    TS_OK(b, gfmd_step(b, 300));
+    TS_OK(a, gfmd_step(a, 100));
+    TS_OK(b, gfmd_step(b, 100));
     double *za = ts_alloc(N * N), *zb = ts_alloc(N * N), va[2], vb[2];
     TS_OK(a, gfmd_get_surface(a, za));
     TS_OK(b, gfmd_get_surface(b, zb));
