@@ -14,13 +14,31 @@ Fields are numpy arrays of shape (ny, nx), x fastest, the C layout of the librar
 found through load_library(path), GFMD_LIBRARY, the source tree's build folder, or the system
 loader (docs/python.md).
 """
+from __future__ import annotations
+
 import ctypes
 import os
 import sys
+from typing import Optional, Tuple, Union
 
 import numpy as np
+import numpy.typing as npt
 
 from . import _constants, _library
+
+try:
+    from ._version import __version__  # written by the pip build (setup.py)
+except ImportError:  # the source tree: the project's version
+    import re as _re
+    from pathlib import Path as _Path
+
+    _cmake = _Path(__file__).resolve().parents[2] / "CMakeLists.txt"
+    _m = _re.search(r"project\(gfmd VERSION ([0-9.]+)", _cmake.read_text()) if _cmake.exists() else None
+    __version__ = _m.group(1) if _m else "unknown"
+
+FloatArray = npt.NDArray[np.float64]
+IntArray = npt.NDArray[np.int64]
+PathLike = Union[str, "os.PathLike[str]"]
 
 _VALUES, _STATUS_TEXT = _constants.read()
 globals().update(_VALUES)  # every GFMD_* constant of the C header, under its C name
@@ -97,7 +115,7 @@ def _raise(status, message):
 _lib = None
 
 
-def load_library(path=None):
+def load_library(path: Optional[PathLike] = None) -> ctypes.CDLL:
     """Load libgfmd (from path, if given) and return the ctypes handle; done at first use otherwise."""
     global _lib
     if _lib is None or path is not None:
@@ -109,12 +127,12 @@ def _c():
     return _lib if _lib is not None else load_library()
 
 
-def version():
+def version() -> str:
     """The library's version string."""
     return _c().gfmd_version().decode()
 
 
-def green_factor(kind, t, nu=0.0):
+def green_factor(kind: int, t: float, nu: float = 0.0) -> float:
     """f(t) of a body (HALFSPACE, LAYER_FLUID, LAYER_BONDED) at t = q w."""
     f = ctypes.c_double()
     st = _c().gfmd_green_factor(int(kind), float(t), float(nu), ctypes.byref(f))
@@ -123,7 +141,7 @@ def green_factor(kind, t, nu=0.0):
     return f.value
 
 
-def least_squares(a, b):
+def least_squares(a: npt.ArrayLike, b: npt.ArrayLike) -> Tuple[FloatArray, float]:
     """x minimizing ||a x - b|| (a: m x n, full rank) and the residual sum of squares, by LAPACKE."""
     a = np.asarray(a, dtype=np.float64)
     b = np.asarray(b, dtype=np.float64)
@@ -141,7 +159,7 @@ def least_squares(a, b):
     return x, rss.value
 
 
-def label_patches(mask, connectivity=4, periodic=True):
+def label_patches(mask: npt.ArrayLike, connectivity: int = 4, periodic: bool = True) -> Tuple[IntArray, int]:
     """Connected-component labels of a boolean (ny, nx) mask: (labels, count), labels an int64
     array, 0 outside the set and 1..count inside, numbered in the order of each patch's first point
     (x fastest); connectivity 4 (edge neighbours) or 8 (and the diagonal ones); periodic wraps the
@@ -165,7 +183,7 @@ class ContactPatches:
     .area, .edges (the lattice perimeter, in edges), .perimeter (edges' length times pi/4),
     .centroid ((count, 2): x, y in the cell, periodic mean), .load (the force the patch carries)."""
 
-    def __init__(self, sim, connectivity):
+    def __init__(self, sim: "Simulation", connectivity: int) -> None:
         self.connectivity = connectivity
         self.labels = np.empty(sim.shape, dtype=np.int64)
         n = ctypes.c_int64()
@@ -183,11 +201,11 @@ class ContactPatches:
         self.centroid = np.column_stack([values["centroid_x"], values["centroid_y"]])
 
     @property
-    def mean_area(self):
+    def mean_area(self) -> float:
         """The mean patch area (0 without patches)."""
         return float(self.area.mean()) if self.count else 0.0
 
-    def size_histogram(self, bins=10):
+    def size_histogram(self, bins: int = 10) -> Tuple[FloatArray, IntArray]:
         """(edges, counts): the number of patches by area in `bins` logarithmic bins from the
         smallest patch's area to the largest's (counts sum to .count)."""
         if self.count == 0:
@@ -197,7 +215,7 @@ class ContactPatches:
         counts, _ = np.histogram(self.area, bins=edges)
         return edges, counts
 
-    def perimeter_area_exponent(self):
+    def perimeter_area_exponent(self) -> float:
         """The exponent D/2 of perimeter ~ area^(D/2) fitted by least squares (ln P against ln A) over
         the patches of more than one point; NaN with fewer than two such sizes."""
         keep = self.points > 1
@@ -208,19 +226,19 @@ class ContactPatches:
         return float(x[1])
 
 
-def import_wisdom(path):
+def import_wisdom(path: PathLike) -> None:
     st = _c().gfmd_import_wisdom(os.fsencode(path))
     if st:
         _raise(st, f"cannot import FFTW wisdom from {path}")
 
 
-def export_wisdom(path):
+def export_wisdom(path: PathLike) -> None:
     st = _c().gfmd_export_wisdom(os.fsencode(path))
     if st:
         _raise(st, f"cannot export FFTW wisdom to {path}")
 
 
-def load(path):
+def load(path: PathLike) -> "Simulation":
     """A Simulation restored from a checkpoint written by save() (or by C, Fortran)."""
     out = ctypes.c_void_p()
     msg = ctypes.create_string_buffer(512)
@@ -237,7 +255,7 @@ class Simulation:
     threads (0 = the library's default) and planner (ESTIMATE, MEASURE, PATIENT) are fixed before
     the first FFT plan.  Free it with close() or a with-block; garbage collection frees it too."""
 
-    def __init__(self, nx, ny, lx, ly, threads=0, planner=None):
+    def __init__(self, nx: int, ny: int, lx: float, ly: float, threads: int = 0, planner: Optional[int] = None) -> None:
         self._h = ctypes.c_void_p()
         st = _c().gfmd_sim_create_ex(int(nx), int(ny), float(lx), float(ly), int(threads),
                                      MEASURE if planner is None else int(planner), ctypes.byref(self._h))
@@ -255,7 +273,7 @@ class Simulation:
         return self
 
     # lifetime
-    def close(self):
+    def close(self) -> None:
         """Free the C handle (idempotent); the object is unusable afterwards."""
         if getattr(self, "_h", None) and self._h.value:
             _c().gfmd_sim_destroy(ctypes.byref(self._h))
@@ -266,7 +284,7 @@ class Simulation:
         except Exception:  # interpreter shutdown: nothing left to report to
             pass
 
-    def __enter__(self):
+    def __enter__(self) -> "Simulation":
         return self
 
     def __exit__(self, *exc):
@@ -284,7 +302,7 @@ class Simulation:
             _raise(st, self.last_error())
         return st
 
-    def last_error(self):
+    def last_error(self) -> str:
         """The library's message of the last failed call on this handle."""
         need = ctypes.c_int64()
         _c().gfmd_last_error_length(self._handle(), ctypes.byref(need))
@@ -292,38 +310,42 @@ class Simulation:
         _c().gfmd_last_error(self._handle(), buf, len(buf))
         return buf.value.decode(errors="replace")
 
-    def clone(self):
+    def clone(self) -> "Simulation":
         """An independent copy in the same state."""
         out = ctypes.c_void_p()
         self._call("gfmd_sim_clone", ctypes.byref(out))
         return Simulation._adopt(out)
 
-    def save(self, path):
+    def save(self, path: PathLike) -> None:
+        """Write the complete state to a checkpoint file (gfmd.load reads it back)."""
         self._call("gfmd_sim_save", os.fsencode(path))
 
     @property
-    def shape(self):
+    def shape(self) -> Tuple[int, int]:
         """(ny, nx), the shape of every field."""
         return self._shape
 
     @property
-    def grid(self):
+    def grid(self) -> Tuple[int, int, float, float]:
         """(nx, ny, lx, ly)."""
         nx, ny, lx, ly = ctypes.c_int64(), ctypes.c_int64(), ctypes.c_double(), ctypes.c_double()
         self._call("gfmd_get_grid", ctypes.byref(nx), ctypes.byref(ny), ctypes.byref(lx), ctypes.byref(ly))
         return nx.value, ny.value, lx.value, ly.value
 
     # the body and the substrate
-    def set_modulus(self, e_star):
+    def set_modulus(self, e_star: float) -> None:
+        """The contact modulus E* (> 0)."""
         self._call("gfmd_set_modulus", float(e_star))
 
-    def set_green(self, kind, width=0.0):
+    def set_green(self, kind: int, width: float = 0.0) -> None:
+        """The body: HALFSPACE, LAYER_FLUID (a layer of this width on a fluid foundation) or LAYER_BONDED."""
         self._call("gfmd_set_green", int(kind), float(width))
 
-    def set_poisson(self, nu):
+    def set_poisson(self, nu: float) -> None:
+        """Poisson's ratio (the bonded layer needs it)."""
         self._call("gfmd_set_poisson", float(nu))
 
-    def _field_in(self, h, what="heights"):
+    def _field_in(self, h: npt.ArrayLike, what: str = "heights") -> FloatArray:
         """h as the (ny, nx) C-contiguous float64 array the library reads: h itself if it is one
         (no copy), else one copy made by numpy (any array-like: lists, other dtypes, strides,
         Fortran order, read-only arrays, memoryviews)."""
@@ -336,83 +358,95 @@ class Simulation:
                                   f"{what} must have shape {self._shape} (ny, nx), got {a.shape}")
         return np.ascontiguousarray(a)
 
-    def set_heights(self, h):
+    def set_heights(self, h: npt.ArrayLike) -> None:
         """The substrate from any (ny, nx) array-like (a C-contiguous float64 array is read in place,
         anything else converted once)."""
         a = self._field_in(h)
         self._call("gfmd_set_heights", a.ctypes.data_as(_library.c_double_p))
 
-    def generate_selfaffine(self, hurst, lambda_r, lambda_s, rms_gradient, seed, distribution=None):
+    def generate_selfaffine(self, hurst: float, lambda_r: float, lambda_s: float, rms_gradient: float, seed: int,
+                            distribution: Optional[int] = None) -> None:
         """A self-affine substrate (the seed paper's Sec. 2.3); the same seed gives C's surface."""
         self._call("gfmd_generate_selfaffine", float(hurst), float(lambda_r), float(lambda_s), float(rms_gradient),
                    int(seed) & 0xFFFFFFFFFFFFFFFF, UNIFORM if distribution is None else int(distribution))
 
     # load and dynamics
-    def set_pressure(self, sigma0):
+    def set_pressure(self, sigma0: float) -> None:
+        """Pressure control: the external pressure sigma0 >= 0 pushes the body onto the substrate."""
         self._call("gfmd_set_pressure", float(sigma0))
 
-    def set_adhesion(self, gamma0, rho):
+    def set_adhesion(self, gamma0: float, rho: float) -> None:
+        """Adhesion: the stress (gamma0/rho) exp(-gap/rho) pulls the body down (gamma0 = 0: none)."""
         self._call("gfmd_set_adhesion", float(gamma0), float(rho))
 
-    def set_mean_displacement(self, d):
+    def set_mean_displacement(self, d: float) -> None:
         """Displacement control: mean(z) = d; the mean pressure follows (set_pressure returns)."""
         self._call("gfmd_set_mean_displacement", float(d))
 
     @property
-    def mean_displacement(self):
+    def mean_displacement(self) -> float:
         """mean(z), under either control."""
         return self._scalar("gfmd_get_mean_displacement")
 
     @property
-    def mean_pressure(self):
+    def mean_pressure(self) -> float:
         """The mean pressure the body carries: sigma0, or the balancing one under displacement control."""
         return self._scalar("gfmd_get_mean_pressure")
 
-    def set_timestep(self, dt):
+    def set_timestep(self, dt: float) -> None:
+        """The time step of the dynamics (0: automatic)."""
         self._call("gfmd_set_timestep", float(dt))
 
-    def set_damping(self, eta):
+    def set_damping(self, eta: float) -> None:
+        """The damping of the damped dynamics (0: automatic)."""
         self._call("gfmd_set_damping", float(eta))
 
-    def set_solver(self, solver):
+    def set_solver(self, solver: int) -> None:
+        """The relaxation method: AUTO (the default), FIRE, CG, MASS_WEIGHTED_FIRE, APPROACH_THEN_FIRE, NEWTON, VERLET."""
         self._call("gfmd_set_solver", int(solver))
 
     @property
-    def solver(self):
+    def solver(self) -> int:
         """The solver that steps now (GFMD_SOLVER_AUTO resolved)."""
         k = ctypes.c_int32()
         self._call("gfmd_get_solver", ctypes.byref(k))
         return k.value
 
-    def set_threads(self, n):
+    def set_threads(self, n: int) -> None:
+        """Threads of this handle's loops and transforms (0: the default)."""
         self._call("gfmd_set_threads", int(n))
 
     @property
-    def threads(self):
+    def threads(self) -> int:
+        """The threads this handle uses."""
         t = ctypes.c_int32()
         self._call("gfmd_get_threads", ctypes.byref(t))
         return t.value
 
-    def set_fft_planner(self, planner):
+    def set_fft_planner(self, planner: int) -> None:
+        """FFTW planner rigour: ESTIMATE, MEASURE (the default) or PATIENT; replans."""
         self._call("gfmd_set_fft_planner", int(planner))
 
     @property
-    def dynamics(self):
+    def dynamics(self) -> Tuple[float, float]:
         """(dt, eta) in effect."""
         dt, eta = ctypes.c_double(), ctypes.c_double()
         self._call("gfmd_get_dynamics", ctypes.byref(dt), ctypes.byref(eta))
         return dt.value, eta.value
 
-    def step(self, n=1):
+    def step(self, n: int = 1) -> None:
+        """Exactly n steps of the solver, continuing its trajectory."""
         self._call("gfmd_step", int(n))
 
-    def restart_solver(self):
+    def restart_solver(self) -> None:
+        """Restart the solver's adaptive state (as a change of the energy landscape does)."""
         self._call("gfmd_restart_solver")
 
-    def reset(self):
+    def reset(self) -> None:
+        """The body flat at the highest substrate point, at rest (the load kept)."""
         self._call("gfmd_reset")
 
-    def relax_multilevel(self, levels, tol=0.0, max_steps=10_000_000):
+    def relax_multilevel(self, levels: int, tol: float = 0.0, max_steps: int = 10_000_000) -> Tuple[int, int]:
         """relax() from a start made on grids coarsened levels - 1 times by 2 (gfmd_relax_multilevel);
         returns (steps on this grid, steps on the coarser grids).  Raises like relax()."""
         taken, below = ctypes.c_int64(), ctypes.c_int64()
@@ -425,7 +459,7 @@ class Simulation:
             _raise(st, self.last_error())
         return taken.value, below.value
 
-    def relax(self, tol=0.0, max_steps=10_000_000, progress=False):
+    def relax(self, tol: float = 0.0, max_steps: int = 10_000_000, progress: Union[bool, int] = False) -> int:
         """Step until the residual is <= tol (0: DEFAULT_TOL); returns the steps taken.
 
         Raises NotConverged (with .steps) when max_steps are reached: the progress is kept and
@@ -461,16 +495,18 @@ class Simulation:
         return x.value
 
     @property
-    def contact_area(self):
+    def contact_area(self) -> float:
         """A/A0, the fraction of points in contact."""
         return self._scalar("gfmd_get_contact_area")
 
     @property
-    def mean_gap(self):
+    def mean_gap(self) -> float:
+        """The mean gap <z - h> over the cell."""
         return self._scalar("gfmd_get_mean_gap")
 
     @property
-    def residual(self):
+    def residual(self) -> float:
+        """The relative residual of the constrained problem at the current configuration."""
         return self._scalar("gfmd_get_residual")
 
     def _energies(self):
@@ -479,14 +515,16 @@ class Simulation:
         return el.value, ad.value
 
     @property
-    def elastic_energy(self):
+    def elastic_energy(self) -> float:
+        """U_el = (A/2) sum_q |u(q)|^2 / G(q) of the whole cell."""
         return self._energies()[0]
 
     @property
-    def adhesive_energy(self):
+    def adhesive_energy(self) -> float:
+        """U_ad = integral of gamma0 exp(-gap/rho) dA over the cell (energy gained, >= 0)."""
         return self._energies()[1]
 
-    def _field_out(self, name, out=None):
+    def _field_out(self, name: str, out: Optional[FloatArray] = None) -> FloatArray:
         if out is None:
             out = np.empty(self._shape)
         elif not (isinstance(out, np.ndarray) and out.dtype == np.float64 and out.shape == self._shape
@@ -497,53 +535,56 @@ class Simulation:
         self._call(name, out.ctypes.data_as(_library.c_double_p))
         return out
 
-    def gap(self, out=None):
+    def gap(self, out: Optional[FloatArray] = None) -> FloatArray:
         """The (ny, nx) array of z - h: a fresh one, or written into out (and returned)."""
         return self._field_out("gfmd_get_gap", out)
 
-    def surface(self, out=None):
+    def surface(self, out: Optional[FloatArray] = None) -> FloatArray:
         """The (ny, nx) array of the elastic surface z (fresh, or into out)."""
         return self._field_out("gfmd_get_surface", out)
 
-    def pressure(self, out=None):
+    def pressure(self, out: Optional[FloatArray] = None) -> FloatArray:
         """The (ny, nx) array of the pressure the substrate exerts, contact minus adhesion (fresh, or into out)."""
         return self._field_out("gfmd_get_pressure", out)
 
-    def heights(self, out=None):
+    def heights(self, out: Optional[FloatArray] = None) -> FloatArray:
         """The (ny, nx) array of the substrate heights (fresh, or into out)."""
         return self._field_out("gfmd_get_heights", out)
 
-    def persson_variance(self):
+    def persson_variance(self) -> float:
+        """Persson's full-contact pressure variance V = sum_q |h(q)|^2 / G(q)^2 for this substrate and body."""
         return self._scalar("gfmd_persson_variance")
 
-    def persson_contact_area(self, sigma0):
+    def persson_contact_area(self, sigma0: float) -> float:
         """Persson's A/A0 for this substrate and body at the load sigma0."""
         a = ctypes.c_double()
         self._call("gfmd_persson_contact_area", float(sigma0), ctypes.byref(a))
         return a.value
 
     # plasticity
-    def set_hardness(self, hardness):
+    def set_hardness(self, hardness: float) -> None:
         """Perfect plasticity at the hardness H (math.inf: none, the default; docs/model.md)."""
         self._call("gfmd_set_hardness", float(hardness))
 
     @property
-    def hardness(self):
+    def hardness(self) -> float:
+        """The hardness H of plasticity (math.inf: none)."""
         return self._scalar("gfmd_get_hardness")
 
     @property
-    def plasticity(self):
+    def plasticity(self) -> Tuple[float, float]:
         """(plastic area fraction, plastic volume): the points yielding now, the volume lost."""
         a, v = ctypes.c_double(), ctypes.c_double()
         self._call("gfmd_get_plasticity", ctypes.byref(a), ctypes.byref(v))
         return a.value, v.value
 
     # how the contact is made
-    def contact_patches(self, connectivity=4):
+    def contact_patches(self, connectivity: int = 4) -> ContactPatches:
         """The contact patches, a ContactPatches (labels, count, per-patch areas, perimeters, ...)."""
         return ContactPatches(self, connectivity)
 
-    def pressure_histogram(self, bins=50, range=None):
+    def pressure_histogram(self, bins: int = 50, range: Optional[Tuple[float, float]] = None
+                           ) -> Tuple[FloatArray, FloatArray, FloatArray]:
         """(edges, fraction, mean): the contact points binned by pressure in `bins` equal bins over
         `range` (default: the contact's own); fraction sums to A/A0, (fraction * mean).sum() is the
         mean contact pressure (sigma0 at equilibrium without adhesion); fraction / width is P(p)."""
@@ -553,7 +594,7 @@ class Simulation:
                    fraction.ctypes.data_as(_library.c_double_p), mean.ctypes.data_as(_library.c_double_p))
         return np.linspace(r[0], r[1], int(bins) + 1), fraction, mean
 
-    def persson_pressure_distribution(self, p, sigma0):
+    def persson_pressure_distribution(self, p: npt.ArrayLike, sigma0: float) -> FloatArray:
         """Persson's P(p) at the load sigma0 at the pressures p (an array of the same shape)."""
         q = np.ascontiguousarray(p, dtype=np.float64)
         out = np.empty_like(q)
@@ -561,7 +602,7 @@ class Simulation:
                    out.ctypes.data_as(_library.c_double_p))
         return out
 
-    def persson_load(self, rel_area):
+    def persson_load(self, rel_area: float) -> float:
         """The load at which Persson's A/A0 is rel_area (the inverse of persson_contact_area)."""
         s = ctypes.c_double()
         self._call("gfmd_persson_load", float(rel_area), ctypes.byref(s))

@@ -8,14 +8,16 @@ _HERE = Path(__file__).resolve().parent
 
 
 def _candidates(explicit=None):
-    """Where to look, in order: an explicit path, GFMD_LIBRARY, the source tree's build folder,
-    the folder of an installed package, then the system loader."""
+    """Where to look, in order: an explicit path, GFMD_LIBRARY, the package's own folder (pip),
+    the source tree's build folder, the folder of an installed package, then the system loader."""
     out = []
     if explicit:
         out.append(str(explicit))
     env = os.environ.get("GFMD_LIBRARY")
     if env:
         out.append(env)
+    # installed by pip: the library beside the package's modules
+    out.append(str(_HERE / "libgfmd.so.0"))
     # python/gfmd in the source tree -> build/; <prefix>/share/gfmd/python/gfmd installed -> <prefix>/lib
     for folder in (_HERE.parents[1] / "build", _HERE.parents[3] / "lib", _HERE.parents[3] / "lib64"):
         out.append(str(folder / "libgfmd.so"))
