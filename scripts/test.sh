@@ -12,7 +12,7 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 jobs="$(nproc)"
-extra=(procps valgrind python3-numpy python3-pytest python3-matplotlib python3-scipy python3-venv python3-pip python3-setuptools python3-wheel libopenmpi-dev openmpi-bin libfftw3-mpi-dev)
+extra=(procps valgrind python3-numpy python3-pytest python3-matplotlib python3-scipy python3-venv python3-pip python3-setuptools python3-wheel python3-mpi4py libopenmpi-dev openmpi-bin libfftw3-mpi-dev)
 # the fuzzer's compiler too, in the same apt run (one package index update on a fresh machine)
 [ "${1:-}" = "--quick" ] || extra+=(clang libclang-rt-14-dev libomp-14-dev)
 "$root/scripts/setup.sh" "${extra[@]}"

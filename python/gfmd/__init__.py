@@ -127,6 +127,17 @@ def _c():
     return _lib if _lib is not None else load_library()
 
 
+_mpi_lib = None
+
+
+def _cm():
+    """libgfmd_mpi, loaded at the first distributed Simulation (mpi4py must have initialized MPI)."""
+    global _mpi_lib
+    if _mpi_lib is None:
+        _mpi_lib = _library.load_mpi()
+    return _mpi_lib
+
+
 def version() -> str:
     """The library's version string."""
     return _c().gfmd_version().decode()
@@ -238,14 +249,19 @@ def export_wisdom(path: PathLike) -> None:
         _raise(st, f"cannot export FFTW wisdom to {path}")
 
 
-def load(path: PathLike) -> "Simulation":
-    """A Simulation restored from a checkpoint written by save() (or by C, Fortran)."""
+def load(path: PathLike, comm=None) -> "Simulation":
+    """A Simulation restored from a checkpoint written by save() (or by C, Fortran); with an
+    mpi4py communicator, distributed over its ranks (any number: collective)."""
     out = ctypes.c_void_p()
     msg = ctypes.create_string_buffer(512)
-    st = _c().gfmd_sim_load(os.fsencode(path), ctypes.byref(out), msg, len(msg))
+    lib = _c() if comm is None else _cm()
+    if comm is None:
+        st = lib.gfmd_sim_load(os.fsencode(path), ctypes.byref(out), msg, len(msg))
+    else:
+        st = lib.gfmd_sim_load_mpi_f(comm.py2f(), os.fsencode(path), ctypes.byref(out), msg, len(msg))
     if st:
         _raise(st, msg.value.decode(errors="replace"))
-    return Simulation._adopt(out)
+    return Simulation._adopt(out, lib)
 
 
 # ------------------------------------------------------------------ the simulation
@@ -255,20 +271,33 @@ class Simulation:
     threads (0 = the library's default) and planner (ESTIMATE, MEASURE, PATIENT) are fixed before
     the first FFT plan.  Free it with close() or a with-block; garbage collection frees it too."""
 
-    def __init__(self, nx: int, ny: int, lx: float, ly: float, threads: int = 0, planner: Optional[int] = None) -> None:
+    def __init__(self, nx: int, ny: int, lx: float, ly: float, threads: int = 0, planner: Optional[int] = None,
+                 comm=None) -> None:
         self._h = ctypes.c_void_p()
-        st = _c().gfmd_sim_create_ex(int(nx), int(ny), float(lx), float(ly), int(threads),
-                                     MEASURE if planner is None else int(planner), ctypes.byref(self._h))
+        plan = MEASURE if planner is None else int(planner)
+        if comm is None:
+            self._lib = _c()
+            st = self._lib.gfmd_sim_create_ex(int(nx), int(ny), float(lx), float(ly), int(threads), plan,
+                                              ctypes.byref(self._h))
+        else:  # an mpi4py communicator: the grid distributed over its ranks (libgfmd_mpi)
+            self._lib = _cm()
+            st = self._lib.gfmd_sim_create_mpi_f(comm.py2f(), int(nx), int(ny), float(lx), float(ly), plan,
+                                                 ctypes.byref(self._h))
         if st:
             _raise(st, f"cannot create a {nx} x {ny} simulation on {lx} x {ly}")
         self._shape = (int(ny), int(nx))
+        self._distributed = comm is not None
+        if comm is not None and threads:
+            self.set_threads(threads)
 
     @classmethod
-    def _adopt(cls, handle):
+    def _adopt(cls, handle, lib=None):
         self = cls.__new__(cls)
         self._h = handle
+        self._lib = lib if lib is not None else _c()
+        self._distributed = lib is not None and lib is _mpi_lib
         nx, ny = ctypes.c_int64(), ctypes.c_int64()
-        _c().gfmd_get_grid(handle, ctypes.byref(nx), ctypes.byref(ny), None, None)
+        self._lib.gfmd_get_grid(handle, ctypes.byref(nx), ctypes.byref(ny), None, None)
         self._shape = (ny.value, nx.value)
         return self
 
@@ -276,7 +305,7 @@ class Simulation:
     def close(self) -> None:
         """Free the C handle (idempotent); the object is unusable afterwards."""
         if getattr(self, "_h", None) and self._h.value:
-            _c().gfmd_sim_destroy(ctypes.byref(self._h))
+            self._lib.gfmd_sim_destroy(ctypes.byref(self._h))
 
     def __del__(self):
         try:
@@ -297,7 +326,7 @@ class Simulation:
         return self._h
 
     def _call(self, name, *args):
-        st = getattr(_c(), name)(self._handle(), *args)
+        st = getattr(self._lib, name)(self._handle(), *args)
         if st:
             _raise(st, self.last_error())
         return st
@@ -305,16 +334,16 @@ class Simulation:
     def last_error(self) -> str:
         """The library's message of the last failed call on this handle."""
         need = ctypes.c_int64()
-        _c().gfmd_last_error_length(self._handle(), ctypes.byref(need))
+        self._lib.gfmd_last_error_length(self._handle(), ctypes.byref(need))
         buf = ctypes.create_string_buffer(max(int(need.value), 1))
-        _c().gfmd_last_error(self._handle(), buf, len(buf))
+        self._lib.gfmd_last_error(self._handle(), buf, len(buf))
         return buf.value.decode(errors="replace")
 
     def clone(self) -> "Simulation":
         """An independent copy in the same state."""
         out = ctypes.c_void_p()
         self._call("gfmd_sim_clone", ctypes.byref(out))
-        return Simulation._adopt(out)
+        return Simulation._adopt(out, self._lib)
 
     def save(self, path: PathLike) -> None:
         """Write the complete state to a checkpoint file (gfmd.load reads it back)."""
@@ -450,7 +479,7 @@ class Simulation:
         """relax() from a start made on grids coarsened levels - 1 times by 2 (gfmd_relax_multilevel);
         returns (steps on this grid, steps on the coarser grids).  Raises like relax()."""
         taken, below = ctypes.c_int64(), ctypes.c_int64()
-        st = _c().gfmd_relax_multilevel(self._handle(), float(tol), int(max_steps), int(levels),
+        st = self._lib.gfmd_relax_multilevel(self._handle(), float(tol), int(max_steps), int(levels),
                                          ctypes.byref(taken), ctypes.byref(below))
         if st == _VALUES["GFMD_ERR_NOT_CONVERGED"]:
             raise NotConverged(st, f"not converged after {taken.value} steps: residual {self.residual:.3e}",
@@ -471,7 +500,7 @@ class Simulation:
         while True:
             chunk = min(every, target - total) if every > 0 else target - total
             taken = ctypes.c_int64()
-            st = _c().gfmd_relax(self._handle(), float(tol), int(chunk), ctypes.byref(taken))
+            st = self._lib.gfmd_relax(self._handle(), float(tol), int(chunk), ctypes.byref(taken))
             total += taken.value
             if st == 0:
                 if every > 0:
@@ -560,6 +589,77 @@ class Simulation:
         a = ctypes.c_double()
         self._call("gfmd_persson_contact_area", float(sigma0), ctypes.byref(a))
         return a.value
+
+    # a grid distributed over MPI ranks (comm=...): this rank's slab of rows, the names of gfmd_mpi.h
+    @property
+    def ranks(self) -> int:
+        """The number of MPI ranks the grid is distributed over (1 for a serial Simulation)."""
+        if not self._distributed:
+            return 1
+        r = ctypes.c_int32()
+        self._call("gfmd_mpi_get_ranks", ctypes.byref(r))
+        return r.value
+
+    def _mpi(self):
+        if not self._distributed:
+            raise StateError(_VALUES["GFMD_ERR_STATE"], "the local-slab calls need a Simulation made with comm=")
+
+    @property
+    def local_grid(self) -> Tuple[int, int]:
+        """(local_ny, y0): this rank owns rows y0 .. y0 + local_ny - 1 (a distributed Simulation)."""
+        self._mpi()
+        rows, y0 = ctypes.c_int64(), ctypes.c_int64()
+        self._call("gfmd_mpi_get_local_grid", ctypes.byref(rows), ctypes.byref(y0))
+        return rows.value, y0.value
+
+    def _local_shape(self):
+        return (self.local_grid[0], self._shape[1])
+
+    def set_local_heights(self, h: npt.ArrayLike) -> None:
+        """This rank's rows of the substrate, any (local_ny, nx) array-like.  Collective."""
+        self._mpi()
+        shape = self._local_shape()
+        a = np.ascontiguousarray(np.asarray(h, dtype=np.float64))
+        if a.shape != shape:
+            raise InvalidArgument(_VALUES["GFMD_ERR_INVALID_ARG"], f"local heights must have shape {shape}, got {a.shape}")
+        self._call("gfmd_mpi_set_local_heights", a.ctypes.data_as(_library.c_double_p), shape[1])
+
+    def _local_out(self, name, out):
+        self._mpi()
+        shape = self._local_shape()
+        if out is None:
+            out = np.empty(shape)
+        elif not (isinstance(out, np.ndarray) and out.dtype == np.float64 and out.shape == shape
+                  and out.flags.c_contiguous and out.flags.writeable):
+            raise InvalidArgument(_VALUES["GFMD_ERR_INVALID_ARG"],
+                                  f"out must be a writeable C-contiguous float64 array of shape {shape}")
+        self._call(name, out.ctypes.data_as(_library.c_double_p), shape[1])
+        return out
+
+    def local_heights(self, out: Optional[FloatArray] = None) -> FloatArray:
+        """This rank's rows of the substrate, (local_ny, nx)."""
+        return self._local_out("gfmd_mpi_get_local_heights", out)
+
+    def local_surface(self, out: Optional[FloatArray] = None) -> FloatArray:
+        """This rank's rows of the surface z, (local_ny, nx)."""
+        return self._local_out("gfmd_mpi_get_local_surface", out)
+
+    def local_gap(self, out: Optional[FloatArray] = None) -> FloatArray:
+        """This rank's rows of the gap z - h, (local_ny, nx)."""
+        return self._local_out("gfmd_mpi_get_local_gap", out)
+
+    def local_pressure(self, out: Optional[FloatArray] = None) -> FloatArray:
+        """This rank's rows of the pressure, (local_ny, nx)."""
+        return self._local_out("gfmd_mpi_get_local_pressure", out)
+
+    def local_contact_patches(self, connectivity: int = 4) -> Tuple[IntArray, int]:
+        """(this rank's rows of the patch labels (local_ny, nx), the number of patches).  Collective."""
+        self._mpi()
+        labels = np.empty(self._local_shape(), dtype=np.int64)
+        n = ctypes.c_int64()
+        self._call("gfmd_mpi_get_local_contact_patches", int(connectivity),
+                   labels.ctypes.data_as(_library.c_int64_p), self._shape[1], ctypes.byref(n))
+        return labels, n.value
 
     # plasticity
     def set_hardness(self, hardness: float) -> None:

@@ -26,10 +26,30 @@ def _candidates(explicit=None):
     return out
 
 
-def load(explicit=None):
+def _mpi_candidates():
+    """libgfmd_mpi: GFMD_MPI_LIBRARY, the package's own folder, the source tree's build folder,
+    an installed prefix's lib, then the system loader."""
+    out = []
+    env = os.environ.get("GFMD_MPI_LIBRARY")
+    if env:
+        out.append(env)
+    out.append(str(_HERE / "libgfmd_mpi.so.0"))
+    for folder in (_HERE.parents[1] / "build", _HERE.parents[3] / "lib", _HERE.parents[3] / "lib64"):
+        out.append(str(folder / "libgfmd_mpi.so"))
+    found = ctypes.util.find_library("gfmd_mpi")
+    out.append(found if found else "libgfmd_mpi.so.0")
+    return out
+
+
+def load_mpi():
+    """libgfmd_mpi (for handles distributed over MPI ranks), loaded once; OSError as load()."""
+    return load(None, _mpi_candidates(), mpi=True)
+
+
+def load(explicit=None, candidates=None, mpi=False):
     """The loaded library; OSError naming every place tried if none works."""
     tried = []
-    for path in _candidates(explicit):
+    for path in (candidates if candidates is not None else _candidates(explicit)):
         if os.sep in path and not os.path.exists(path):
             tried.append(f"{path} (no such file)")
             continue
@@ -38,10 +58,12 @@ def load(explicit=None):
         except OSError as e:
             tried.append(f"{path} ({e})")
             continue
-        _declare(lib)
+        _declare(lib, mpi)
         return lib
-    raise OSError("gfmd: cannot load libgfmd; tried:\n  " + "\n  ".join(tried) +
-                  "\nBuild it (cmake --build build) or set GFMD_LIBRARY to the path of libgfmd.so")
+    name = "libgfmd_mpi" if mpi else "libgfmd"
+    hint = ("configure with -DGFMD_BUILD_MPI=ON and build it, or set GFMD_MPI_LIBRARY" if mpi else
+            "build it (cmake --build build) or set GFMD_LIBRARY to the path of libgfmd.so")
+    raise OSError(f"gfmd: cannot load {name}; tried:\n  " + "\n  ".join(tried) + "\n" + hint[0].upper() + hint[1:])
 
 
 c_double_p = ctypes.POINTER(ctypes.c_double)
@@ -110,11 +132,25 @@ _PROTOTYPES = {
     "gfmd_version": (),
     "gfmd_status_string": (_i32,),
 }
+# libgfmd_mpi's own calls (gfmd_mpi.h), the communicator as its Fortran handle (MPI_Fint)
+_MPI_PROTOTYPES = {
+    "gfmd_sim_create_mpi_f": (_i32, _i64, _i64, _dbl, _dbl, _i32, _sim_p),
+    "gfmd_sim_load_mpi_f": (_i32, _str, _sim_p, ctypes.c_char_p, _i64),
+    "gfmd_mpi_get_local_grid": (_sim, c_int64_p, c_int64_p),
+    "gfmd_mpi_get_ranks": (_sim, c_int32_p),
+    "gfmd_mpi_set_local_heights": (_sim, c_double_p, _i64),
+    "gfmd_mpi_get_local_heights": (_sim, c_double_p, _i64),
+    "gfmd_mpi_get_local_surface": (_sim, c_double_p, _i64),
+    "gfmd_mpi_get_local_gap": (_sim, c_double_p, _i64),
+    "gfmd_mpi_get_local_pressure": (_sim, c_double_p, _i64),
+    "gfmd_mpi_get_local_contact_patches": (_sim, _i32, c_int64_p, _i64, c_int64_p),
+}
 _RESTYPE = {"gfmd_sim_destroy": None, "gfmd_version": ctypes.c_char_p, "gfmd_status_string": ctypes.c_char_p}
 
 
-def _declare(lib):
-    for name, args in _PROTOTYPES.items():
+def _declare(lib, mpi=False):
+    table = dict(_PROTOTYPES, **_MPI_PROTOTYPES) if mpi else _PROTOTYPES
+    for name, args in table.items():
         fn = getattr(lib, name)
         fn.argtypes = list(args)
         fn.restype = _RESTYPE.get(name, _i32)
