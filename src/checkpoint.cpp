@@ -305,11 +305,16 @@ void Simulation::save(const char *path) const {
     // under the final name, and a failed save leaves no temporary file behind.
     const int64_t nx = grid_.nx(), ny = grid_.ny(), rows = grid_.local_mode_rows(), y0 = grid_.first_row();
     const uint64_t field_bytes = 8 * static_cast<uint64_t>(nx) * static_cast<uint64_t>(ny);
+    std::vector<unsigned char> bytes;
+    std::vector<uint64_t> mine, table;
+    grid_.on_all_ranks([&] {  // the buffers on every rank or on none, before the collective open
+        bytes.resize(static_cast<std::size_t>(8 * nx * rows));
+        mine.resize(static_cast<std::size_t>(rows));
+        table.resize(fields.size() * static_cast<std::size_t>(ny));
+    });
     auto file = open_checkpoint(path, true, grid_.distribution());
     const bool first = grid_.rank() == 0;
     file->write(0, w.out.data(), first ? w.out.size() : 0);
-    std::vector<unsigned char> bytes(static_cast<std::size_t>(8 * nx * rows));
-    std::vector<uint64_t> mine(static_cast<std::size_t>(rows)), table(fields.size() * static_cast<std::size_t>(ny));
     for (std::size_t k = 0; k < fields.size(); ++k) {
         encode_rows(fields[k], nx, rows, bytes.data(), mine.data());
         file->write(w.out.size() + k * field_bytes + 8 * static_cast<uint64_t>(nx * y0), bytes.data(), bytes.size());
@@ -324,6 +329,31 @@ void Simulation::save(const char *path) const {
 
 std::unique_ptr<Simulation> Simulation::load(const char *path, const Distribution *dist) {
     const std::string p(path);
+#ifdef GFMD_MPI
+    if (dist != nullptr) {
+        // Every rank reads the header by itself and checks that its slab fits before the collective
+        // MPI-IO open: a rank short of memory fails in the open of some MPI libraries and leaves the
+        // others waiting in it (Open MPI's shared file pointer, measured with a squeezed rank).
+        std::string message;
+        int32_t status = GFMD_OK;
+        Header pre;
+        try {
+            SerialFile f(p, false);
+            std::vector<unsigned char> b(static_cast<std::size_t>(std::min<uint64_t>(f.size(), kMaxHeader)));
+            f.read(0, b.data(), b.size());
+            pre = parse_header(b.data(), b.size(), p);
+        } catch (const Error &e) {
+            status = e.status();
+            message = e.what();
+        } catch (const std::bad_alloc &) {
+            status = GFMD_ERR_NOMEM;
+            message = "out of memory";
+        }
+        status = agree_on(dist->comm, status, message);
+        if (status != GFMD_OK) fail(status, message);
+        check_slab_memory(*dist, pre.nx, pre.ny);
+    }
+#endif
     auto file = open_checkpoint(p, false, dist);
     const uint64_t file_size = file->size();
     std::vector<unsigned char> head(static_cast<std::size_t>(std::min<uint64_t>(file_size, kMaxHeader)));
@@ -355,14 +385,21 @@ std::unique_ptr<Simulation> Simulation::load(const char *path, const Distributio
     Fields &fl = s->fields_;
     std::vector<RealBuffer> extra;
     std::vector<double *> targets = {fl.h.data(), fl.z.data(), fl.v.data()};
-    for (uint32_t k = 0; k < hd.solver_fields; ++k) {
-        extra.emplace_back(static_cast<std::size_t>(g.local_points()));
-        targets.push_back(extra.back().data());
-    }
-    RealBuffer substrate(hd.plastic_fields > 0 ? static_cast<std::size_t>(g.local_points()) : 0);
-    if (hd.plastic_fields > 0) targets.push_back(substrate.data());
-    std::vector<unsigned char> bytes(static_cast<std::size_t>(8 * nx * rows));
-    std::vector<uint64_t> mine(nfields * static_cast<std::size_t>(rows));
+    RealBuffer substrate;
+    std::vector<unsigned char> bytes;
+    std::vector<uint64_t> mine;
+    g.on_all_ranks([&] {  // on every rank or on none: no rank waits in a read
+        for (uint32_t k = 0; k < hd.solver_fields; ++k) {
+            extra.emplace_back(static_cast<std::size_t>(g.local_points()));
+            targets.push_back(extra.back().data());
+        }
+        if (hd.plastic_fields > 0) {
+            substrate = RealBuffer(static_cast<std::size_t>(g.local_points()));
+            targets.push_back(substrate.data());
+        }
+        bytes.resize(static_cast<std::size_t>(8 * nx * rows));
+        mine.resize(nfields * static_cast<std::size_t>(rows));
+    });
     for (std::size_t k = 0; k < nfields; ++k) {
         file->read(hd.length + static_cast<uint64_t>(k * field_bytes) + 8 * static_cast<uint64_t>(nx * y0), bytes.data(),
                    bytes.size());

@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <new>
 #include <string>
 
 #include "buffer.hpp"
@@ -152,8 +153,9 @@ public:
     int32_t agree(int32_t status, std::string &message) const;
     // True if every rank passed the same fingerprint (serial: true).  Collective.
     bool same_on_all_ranks(uint64_t fingerprint) const;
-    // Runs check() (validation of this rank's data) so that either every rank goes on or every
-    // rank throws the first failure: no rank is left waiting in a collective for one that threw.
+    // Runs check() (validation of this rank's data, or an allocation) so that either every rank
+    // goes on or every rank throws the first failure (std::bad_alloc as GFMD_ERR_NOMEM): no rank is
+    // left waiting in a collective for one that threw.
     template <class Check>
     void on_all_ranks(Check &&check) const {
         int32_t status = 0;
@@ -163,6 +165,9 @@ public:
         } catch (const Error &e) {
             status = e.status();
             message = distributed() ? "rank " + std::to_string(rank_) + ": " + e.what() : e.what();
+        } catch (const std::bad_alloc &) {  // an allocation of one rank's data: every rank fails
+            status = GFMD_ERR_NOMEM;
+            message = distributed() ? "rank " + std::to_string(rank_) + ": out of memory" : "out of memory";
         }
         status = agree(status, message);
         if (status != 0) fail(status, message);

@@ -238,14 +238,16 @@ void Simulation::set_heights(const double *h) {
                 fail(GFMD_ERR_INVALID_ARG, "height " + std::to_string(i + grid_.first_row() * grid_.nx()) + " = " +
                                                num(h[i]) + " is not finite or exceeds 1e100 in magnitude");
     });
-    RealBuffer nh(static_cast<std::size_t>(n));  // the new substrate, 8 B/pt for this call
+    RealBuffer nh;  // the new substrate, 8 B/pt for this call, allocated on every rank or none
+    grid_.on_all_ranks([&] { nh = RealBuffer(static_cast<std::size_t>(n)); });
     std::copy(h, h + n, nh.data());
     change_substrate(std::move(nh));
 }
 
 void Simulation::generate_selfaffine(const SelfAffineParams &p) {
     validate_selfaffine(grid_, p);
-    RealBuffer nh(static_cast<std::size_t>(grid_.local_points()));  // the new substrate, 8 B/pt for this call
+    RealBuffer nh;  // the new substrate, 8 B/pt for this call, allocated on every rank or none
+    grid_.on_all_ranks([&] { nh = RealBuffer(static_cast<std::size_t>(grid_.local_points())); });
     gfmd::generate_selfaffine(grid_, p, fields_.work.data(), nh.data());
     change_substrate(std::move(nh));
 }
@@ -448,8 +450,10 @@ bool Simulation::surface_flat() const {
 std::unique_ptr<Solver> Simulation::follow_auto_choice() {
     const int32_t kind = resolve_solver(params_.solver);
     if (kind == active_solver_) return nullptr;
-    // make_solver may throw std::bad_alloc (CG's 16 B/pt): then nothing changed
-    std::unique_ptr<Solver> replaced = std::exchange(solver_, make_solver(kind, grid_, dynamics_));
+    // make_solver may throw std::bad_alloc (CG's 16 B/pt): then nothing changed, on every rank
+    std::unique_ptr<Solver> made;
+    grid_.on_all_ranks([&] { made = make_solver(kind, grid_, dynamics_); });
+    std::unique_ptr<Solver> replaced = std::exchange(solver_, std::move(made));
     active_solver_ = kind;
     return replaced;
 }
@@ -457,7 +461,10 @@ std::unique_ptr<Solver> Simulation::follow_auto_choice() {
 void Simulation::set_solver(int32_t solver) {
     require_solver_takes(grid_, params_, solver);
     const int32_t kind = resolve_solver(solver);
-    solver_ = make_solver(kind, grid_, dynamics_);  // a new, restarted solver; the old one freed
+    // a new, restarted solver, made on every rank or on none (its memory), then the old one freed
+    std::unique_ptr<Solver> made;
+    grid_.on_all_ranks([&] { made = make_solver(kind, grid_, dynamics_); });
+    solver_ = std::move(made);
     active_solver_ = kind;
     params_.solver = solver;
 }

@@ -11,6 +11,8 @@
 #include <algorithm>
 #include <climits>
 #include <cstring>
+#include <memory>
+#include <new>
 #include <mutex>
 #include <string>
 
@@ -271,12 +273,23 @@ void FftGrid::send_rows_distributed(const FftGrid &to, const int64_t *dest, cons
 }
 
 void check_slab_memory(const Distribution &dist, int64_t nx, int64_t ny) {
+    int rank = 0;
+    MPI_Comm_rank(dist.comm, &rank);
     int64_t rows = 0, y0 = 0;
     local_slab(dist.comm, nx, ny, rows, y0);
     std::string message;
     int32_t status = GFMD_OK;
     try {
         check_memory(nx, std::max<int64_t>(rows, 1));
+        // What MemAvailable does not see (an address-space limit, a cgroup's): the slab's peak
+        // bytes asked for, untouched, and given back, before any rank allocates or plans
+        const double bytes = kPeakBytesPerPoint * static_cast<double>(nx) * static_cast<double>(std::max<int64_t>(rows, 1));
+        std::unique_ptr<unsigned char[]> trial(bytes < 9e18 ? new (std::nothrow) unsigned char[static_cast<std::size_t>(bytes)]
+                                                            : nullptr);
+        if (!trial)
+            fail(GFMD_ERR_NOMEM, "rank " + std::to_string(rank) + ": its slab of " + std::to_string(rows) +
+                                     " rows (" + std::to_string(static_cast<long long>(bytes / 1048576.0)) +
+                                     " MB at the handle's peak) cannot be allocated");
     } catch (const Error &e) {
         status = e.status();
         message = e.what();
