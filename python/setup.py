@@ -1,7 +1,8 @@
 """Builds the package with the library it needs: `pip install --no-build-isolation ./python`
 configures and builds libgfmd from this source tree with CMake (the library only, Release) and puts
 it, the constants table and the version beside the package's modules.  GFMD_CMAKE_ARGS adds CMake
-arguments; the build needs what the library needs (cmake, a C++ compiler, FFTW and LAPACKE:
+arguments; GFMD_BUILD_DIR names a configured build tree of this source to build the library in
+instead of a scratch one; the build needs what the library needs (cmake, a C++ compiler, FFTW and LAPACKE:
 scripts/setup.sh installs them)."""
 import os
 import re
@@ -28,11 +29,14 @@ class BuildWithLibrary(build_py):
         super().run()
         target = Path(self.build_lib) / "gfmd"
         target.mkdir(parents=True, exist_ok=True)
-        with tempfile.TemporaryDirectory(prefix="gfmd-build-") as build:
-            args = ["-DCMAKE_BUILD_TYPE=Release", "-DGFMD_BUILD_TESTS=OFF", "-DGFMD_BUILD_EXAMPLES=OFF",
-                    "-DGFMD_BUILD_FORTRAN=OFF", "-DGFMD_BUILD_BENCHMARK=OFF"]
-            args += shlex.split(os.environ.get("GFMD_CMAKE_ARGS", ""))
-            subprocess.run(["cmake", "-S", str(ROOT), "-B", build, *args], check=True, stdout=subprocess.DEVNULL)
+        existing = os.environ.get("GFMD_BUILD_DIR")  # a configured build tree of this source to reuse
+        with tempfile.TemporaryDirectory(prefix="gfmd-build-") as scratch:
+            build = existing or scratch
+            if not existing:
+                args = ["-DCMAKE_BUILD_TYPE=Release", "-DGFMD_BUILD_TESTS=OFF", "-DGFMD_BUILD_EXAMPLES=OFF",
+                        "-DGFMD_BUILD_FORTRAN=OFF", "-DGFMD_BUILD_BENCHMARK=OFF"]
+                args += shlex.split(os.environ.get("GFMD_CMAKE_ARGS", ""))
+                subprocess.run(["cmake", "-S", str(ROOT), "-B", build, *args], check=True, stdout=subprocess.DEVNULL)
             subprocess.run(["cmake", "--build", build, "--target", "gfmd", "-j", str(os.cpu_count() or 1)],
                            check=True, stdout=subprocess.DEVNULL)
             built = Path(build) / "libgfmd.so.0"
