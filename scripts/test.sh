@@ -118,9 +118,9 @@ mkdir -p "$logs"
 # The unit tests that must run under valgrind (a missing one is a failure, not a skip), and any
 # other test_* the build made; the longest first (minutes each under valgrind), so that the two
 # at a time end together.
-required=(test_newton test_cg_reference test_threads test_continuation test_hertz test_displacement test_multilevel
-  test_api test_selfaffine test_adhesion test_theory test_checkpoint fortran/test_fortran_bindings test_sinusoid
-  test_layout test_failed_calls test_green test_units)
+required=(test_newton test_cg_reference test_displacement test_api test_adhesion test_units test_threads
+  test_continuation test_plasticity test_multilevel test_checkpoint fortran/test_fortran_bindings test_patches
+  test_hertz test_selfaffine test_theory test_sinusoid test_layout test_failed_calls test_green)
 binaries=()
 for name in "${required[@]}"; do binaries+=("$root/build/tests/$name"); done
 for t in "$root"/build/tests/test_*; do
