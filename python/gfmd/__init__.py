@@ -553,14 +553,20 @@ class Simulation:
         """U_ad = integral of gamma0 exp(-gap/rho) dA over the cell (energy gained, >= 0)."""
         return self._energies()[1]
 
-    def _field_out(self, name: str, out: Optional[FloatArray] = None) -> FloatArray:
+    @staticmethod
+    def _out_buffer(out, shape):
+        """out, checked to be a writeable C-contiguous float64 array of shape, or a fresh one."""
         if out is None:
-            out = np.empty(self._shape)
-        elif not (isinstance(out, np.ndarray) and out.dtype == np.float64 and out.shape == self._shape
-                  and out.flags.c_contiguous and out.flags.writeable):
+            return np.empty(shape)
+        if not (isinstance(out, np.ndarray) and out.dtype == np.float64 and out.shape == shape
+                and out.flags.c_contiguous and out.flags.writeable):
             raise InvalidArgument(_VALUES["GFMD_ERR_INVALID_ARG"],
-                                  f"out must be a writeable C-contiguous float64 array of shape {self._shape}, got "
+                                  f"out must be a writeable C-contiguous float64 array of shape {shape}, got "
                                   f"{getattr(out, 'dtype', type(out).__name__)} {getattr(out, 'shape', '')}")
+        return out
+
+    def _field_out(self, name: str, out: Optional[FloatArray] = None) -> FloatArray:
+        out = self._out_buffer(out, self._shape)
         self._call(name, out.ctypes.data_as(_library.c_double_p))
         return out
 
@@ -626,14 +632,8 @@ class Simulation:
 
     def _local_out(self, name, out):
         self._mpi()
-        shape = self._local_shape()
-        if out is None:
-            out = np.empty(shape)
-        elif not (isinstance(out, np.ndarray) and out.dtype == np.float64 and out.shape == shape
-                  and out.flags.c_contiguous and out.flags.writeable):
-            raise InvalidArgument(_VALUES["GFMD_ERR_INVALID_ARG"],
-                                  f"out must be a writeable C-contiguous float64 array of shape {shape}")
-        self._call(name, out.ctypes.data_as(_library.c_double_p), shape[1])
+        out = self._out_buffer(out, self._local_shape())
+        self._call(name, out.ctypes.data_as(_library.c_double_p), self._shape[1])
         return out
 
     def local_heights(self, out: Optional[FloatArray] = None) -> FloatArray:

@@ -7,43 +7,26 @@ from pathlib import Path
 _HERE = Path(__file__).resolve().parent
 
 
-def _candidates(explicit=None):
-    """Where to look, in order: an explicit path, GFMD_LIBRARY, the package's own folder (pip),
-    the source tree's build folder, the folder of an installed package, then the system loader."""
-    out = []
-    if explicit:
-        out.append(str(explicit))
-    env = os.environ.get("GFMD_LIBRARY")
-    if env:
-        out.append(env)
+def _candidates(explicit=None, name="gfmd", env="GFMD_LIBRARY"):
+    """Where to look for lib<name>, in order: an explicit path, the variable env, the package's own
+    folder (pip), the source tree's build folder, the folder of an installed package, then the
+    system loader."""
+    out = [str(explicit)] if explicit else []
+    if os.environ.get(env):
+        out.append(os.environ[env])
     # installed by pip: the library beside the package's modules
-    out.append(str(_HERE / "libgfmd.so.0"))
+    out.append(str(_HERE / f"lib{name}.so.0"))
     # python/gfmd in the source tree -> build/; <prefix>/share/gfmd/python/gfmd installed -> <prefix>/lib
     for folder in (_HERE.parents[1] / "build", _HERE.parents[3] / "lib", _HERE.parents[3] / "lib64"):
-        out.append(str(folder / "libgfmd.so"))
-    found = ctypes.util.find_library("gfmd")
-    out.append(found if found else "libgfmd.so.0")
-    return out
-
-
-def _mpi_candidates():
-    """libgfmd_mpi: GFMD_MPI_LIBRARY, the package's own folder, the source tree's build folder,
-    an installed prefix's lib, then the system loader."""
-    out = []
-    env = os.environ.get("GFMD_MPI_LIBRARY")
-    if env:
-        out.append(env)
-    out.append(str(_HERE / "libgfmd_mpi.so.0"))
-    for folder in (_HERE.parents[1] / "build", _HERE.parents[3] / "lib", _HERE.parents[3] / "lib64"):
-        out.append(str(folder / "libgfmd_mpi.so"))
-    found = ctypes.util.find_library("gfmd_mpi")
-    out.append(found if found else "libgfmd_mpi.so.0")
+        out.append(str(folder / f"lib{name}.so"))
+    found = ctypes.util.find_library(name)
+    out.append(found if found else f"lib{name}.so.0")
     return out
 
 
 def load_mpi():
     """libgfmd_mpi (for handles distributed over MPI ranks), loaded once; OSError as load()."""
-    return load(None, _mpi_candidates(), mpi=True)
+    return load(None, _candidates(None, "gfmd_mpi", "GFMD_MPI_LIBRARY"), mpi=True)
 
 
 def load(explicit=None, candidates=None, mpi=False):

@@ -20,4 +20,15 @@ static int rank = 0;
 
 #define OK(call) CHECK((call) == GFMD_OK, "%s failed", #call)
 
+/* The process's virtual memory size in bytes (VmSize of /proc/self/status), 0 if unknown. */
+static inline long long vm_size(void) {
+    FILE *f = fopen("/proc/self/status", "r");
+    char line[256];
+    long long kb = 0;
+    while (f && fgets(line, sizeof line, f))
+        if (sscanf(line, "VmSize: %lld kB", &kb) == 1) break;
+    if (f) fclose(f);
+    return kb * 1024;
+}
+
 #endif

@@ -16,16 +16,6 @@
 static int size = 1, victim = 0;
 static struct rlimit unlimited;
 
-static long long vm_size(void) {
-    FILE *f = fopen("/proc/self/status", "r");
-    char line[256];
-    long long kb = 0;
-    while (f && fgets(line, sizeof line, f))
-        if (sscanf(line, "VmSize: %lld kB", &kb) == 1) break;
-    if (f) fclose(f);
-    return kb * 1024;
-}
-
 /* The victim's memory squeezed: its address space capped 64 MB above what it uses, that filled
  * in 1 MB pieces (from wherever malloc takes them: fresh mappings or the reserve of its arenas)
  * until none is left, and `room` MB given back -- a call's small buffers fit, a grid-sized

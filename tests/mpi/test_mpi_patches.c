@@ -78,17 +78,6 @@ static void run(MPI_Comm comm, Grid g, Result *out) {
     gfmd_sim_destroy(&s);
 }
 
-/* The process's virtual memory size in bytes (VmSize of /proc/self/status), 0 if unknown. */
-static long long vm_size(void) {
-    FILE *f = fopen("/proc/self/status", "r");
-    char line[256];
-    long long kb = 0;
-    while (f && fgets(line, sizeof line, f))
-        if (sscanf(line, "VmSize: %lld kB", &kb) == 1) break;
-    if (f) fclose(f);
-    return kb * 1024;
-}
-
 static void gather_beyond_memory(int size) {
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
     (void)size;
