@@ -13,7 +13,10 @@
  * buckets entered so far in its state, resumed for 80 more (<dir>/sheet.gfmd, sheet_straight.bin,
  * sheet_resumed.bin); and the Newton solver on a square thin sheet (newton.gfmd, newton_*.bin), and
  * on the same sheet with adhesion, where its trust region's radius is state that the file must
- * keep (newton_adhesive.gfmd, newton_adhesive_*.bin; it fails with the radius left out: checked). */
+ * keep (newton_adhesive.gfmd, newton_adhesive_*.bin; it fails with the radius left out: checked).
+ * And a plastic run (a hardness the rough contact reaches: FIRE, the load step's substrate and the
+ * yielding points in the file): saved after 40 steps with points yielding, resumed for 60 more;
+ * its surface and its flattened heights (plastic_*.bin). */
 #include <gfmd.h>
 #include <stdio.h>
 #include <string.h>
@@ -103,6 +106,46 @@ static int sheets(const char *dir, int resume) {
     return sheet(&SHEETS[0], dir, resume) && sheet(&SHEETS[1], dir, resume) && sheet(&SHEETS[2], dir, resume);
 }
 
+/* the plastic run: z and then the (flattened) heights into dir/name */
+static int write_plastic(gfmd_sim *s, const char *dir, const char *name) {
+    static double h[NX * NY];
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    if (!write_z(s, dir, name) || !ok(s, gfmd_get_heights(s, h), "heights")) return 0;
+    FILE *f = fopen(path, "ab");
+    const int good = f && fwrite(h, sizeof h, 1, f) == 1;
+    if (f) fclose(f);
+    return good;
+}
+
+static int plastic(const char *dir, int resume) {
+    char path[1024];
+    snprintf(path, sizeof path, "%s/plastic.gfmd", dir);
+    gfmd_sim *s = NULL;
+    int good;
+    if (!resume) {
+        double area = 0.0;
+        good = ok(NULL, gfmd_sim_create_ex(NX, NY, NX, NY, 1, GFMD_PLANNER_ESTIMATE, &s), "create plastic") &&
+               ok(s, gfmd_generate_selfaffine(s, 0.8, 16.0, 4.0, 1.0, 9, GFMD_DIST_UNIFORM), "plastic surface") &&
+               ok(s, gfmd_set_hardness(s, 0.3), "hardness") && ok(s, gfmd_set_pressure(s, 0.05), "plastic load") &&
+               solver_is(s, GFMD_SOLVER_FIRE) && ok(s, gfmd_step(s, 40), "plastic steps") &&
+               ok(s, gfmd_get_plasticity(s, &area, NULL), "plasticity") && ok(s, gfmd_sim_save(s, path), "save plastic") &&
+               ok(s, gfmd_step(s, 60), "plastic steps") && write_plastic(s, dir, "plastic_straight.bin");
+        if (good && !(area > 0.0)) {
+            fprintf(stderr, "restart_process: no point yields in the plastic run\n");
+            good = 0;
+        }
+    } else {
+        char msg[256] = "";
+        const int32_t st = gfmd_sim_load(path, &s, msg, sizeof msg);
+        if (st != GFMD_OK) fprintf(stderr, "restart_process: load plastic: %s\n", msg);
+        good = st == GFMD_OK && solver_is(s, GFMD_SOLVER_FIRE) && ok(s, gfmd_step(s, 60), "plastic steps") &&
+               write_plastic(s, dir, "plastic_resumed.bin");
+    }
+    gfmd_sim_destroy(&s);
+    return good;
+}
+
 int main(int argc, char **argv) {
     if (argc != 3) return 2;
     const char *dir = argv[2];
@@ -118,7 +161,7 @@ int main(int argc, char **argv) {
                    ok(s, gfmd_sim_save(s, ckpt), "save") && ok(s, gfmd_export_wisdom(wisdom), "export wisdom") &&
                    ok(s, gfmd_step(s, 50), "steps") && write_z(s, dir, "z_straight.bin");
         gfmd_sim_destroy(&s);
-        return good && sheets(dir, 0) ? 0 : 1;
+        return good && sheets(dir, 0) && plastic(dir, 0) ? 0 : 1;
     }
     if (!strcmp(argv[1], "resume")) {
         char msg[256] = "";
@@ -127,7 +170,7 @@ int main(int argc, char **argv) {
         if (st != GFMD_OK) fprintf(stderr, "restart_process: load: %s\n", msg);
         good = good && st == GFMD_OK && is_cg(s) && ok(s, gfmd_step(s, 50), "steps") && write_z(s, dir, "z_resumed.bin");
         gfmd_sim_destroy(&s);
-        return good && sheets(dir, 1) ? 0 : 1;
+        return good && sheets(dir, 1) && plastic(dir, 1) ? 0 : 1;
     }
     return 2;
 }
