@@ -313,6 +313,31 @@ static void refusals(void **state) {
     gfmd_sim_destroy(&t);
 }
 
+/* The plastic state's 9 B/pt that cannot be had: GFMD_ERR_NOMEM, the hardness and the solver
+ * unchanged.  In a child process whose address space is capped just above what it uses and then
+ * filled (not under the sanitizers or valgrind, which need address space of their own). */
+static int hardness_without_memory_child(void) {
+    gfmd_sim *s = NULL;
+    if (gfmd_sim_create_ex(1024, 1024, 1024.0, 1024.0, 1, GFMD_PLANNER_ESTIMATE, &s) != GFMD_OK) return 3;
+    int32_t before = -1, after = -1;
+    gfmd_get_solver(s, &before);
+    if (ts_exhaust_memory() != 0) return 4;
+    const int32_t st = gfmd_set_hardness(s, 0.1); /* needs 9 MB */
+    double hard = 0.0;
+    gfmd_get_solver(s, &after);
+    gfmd_get_hardness(s, &hard);
+    if (st != GFMD_ERR_NOMEM || after != before || !isinf(hard))
+        fprintf(stderr, "set_hardness under the cap: status %d, solver %d -> %d, H %g\n", (int)st, (int)before,
+                (int)after, hard);
+    return st == GFMD_ERR_NOMEM && after == before && isinf(hard) ? 0 : 1;
+}
+
+static void hardness_without_memory(void **state) {
+    (void)state;
+    if (!ts_memory_cap_possible()) skip();
+    ts_run_in_child(hardness_without_memory_child);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(hertz_onset_of_yield),
@@ -321,6 +346,7 @@ int main(void) {
         cmocka_unit_test(rough_contact_with_and_without_yield),
         cmocka_unit_test(checkpoint_resumes_the_plastic_run),
         cmocka_unit_test(refusals),
+        cmocka_unit_test(hardness_without_memory),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
