@@ -4,7 +4,7 @@
 # ThreadSanitizer, every unit test under valgrind memcheck, and the fuzzer for 60 s.
 #   scripts/test.sh [--quick]   (--quick: the plain build only)
 # The MPI library (GFMD_BUILD_MPI) is built and tested in the release build and under ASan + UBSan
-# (without leak checks there: Open MPI's own allocations, see tests/mpi/CMakeLists.txt); the
+# (with leak checks, Open MPI's own allocations suppressed: cmake/GfmdMpi.cmake); the
 # ThreadSanitizer and valgrind runs cover the serial library.
 # Each phase's build runs in the background, at the lowest priority, while the phase before it
 # tests: a ctest leaves a core idle for tens of seconds (its serial tests, its last long ones),

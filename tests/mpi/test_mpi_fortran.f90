@@ -110,6 +110,8 @@ program test_mpi_fortran
   call a%destroy()
   call b%destroy()
   call c%destroy()
+  ! (a main program's allocatables are not deallocated at its end: the leak check would see them)
+  deallocate (h, back, whole, za, zb)
   call MPI_Allreduce(failures, total, 1, MPI_INTEGER, MPI_SUM, MPI_COMM_WORLD)
   if (rank == 0) then
     if (total == 0) then
