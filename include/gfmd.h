@@ -552,6 +552,111 @@ GFMD_API int32_t gfmd_persson_load(const gfmd_sim *s, double rel_area, double *s
  */
 GFMD_API int32_t gfmd_least_squares(int64_t m, int64_t n, const double *a, const double *b, double *x, double *rss);
 
+/* ---------------------------------------------------------------- measured topographies */
+
+/** Opaque topography handle: a grid of heights read from an instrument's file (or given). */
+typedef struct gfmd_topo gfmd_topo;
+
+/**
+ * Read a topography from @p path: a text matrix or x y z listing, a Gwyddion simple field (.gsf),
+ * an ISO 25178-71 / BCR surface data file (.sdf, text or binary) or a numpy .npy array
+ * (GFMD_TOPO_*; GFMD_TOPO_AUTO detects the format from the content, docs/topography.md).  The
+ * heights are nx x ny, x fastest (a scan's rows along x), NaN at missing points.  Lengths in
+ * physical units (SDF, GSF with units, a text matrix with Gwyddion's "# Width:" header) are
+ * converted to the caller's unit, @p unit metres long (1e-6: micrometres); a file without units
+ * (.npy, a bare matrix, x y z) keeps its numbers and has a spacing of 1 (see
+ * gfmd_topo_get_info(), gfmd_topo_set_physical_size()).  The caller's buffer receives the message
+ * of a failure.
+ * @return GFMD_ERR_IO if the file cannot be read; GFMD_ERR_FORMAT with what was expected and where
+ *         (line, byte offset) if its content is not valid in the format (truncated, a header that
+ *         declares more data than the file holds, wrong magic, an infinite value); nothing is
+ *         allocated beyond what the file's length holds.  GFMD_ERR_INVALID_ARG for a bad unit.
+ */
+GFMD_API int32_t gfmd_topo_read(const char *path, int32_t format, double unit, gfmd_topo **out, char *errbuf,
+                                int64_t errlen);
+
+/** A topography of the caller's heights (nx x ny, x fastest, NaN = missing) on lx x ly. */
+GFMD_API int32_t gfmd_topo_from_heights(int64_t nx, int64_t ny, double lx, double ly, const double *h,
+                                        gfmd_topo **out);
+
+/** Free a topography and set *t to NULL; NULL and *t == NULL are no-ops. */
+GFMD_API void gfmd_topo_destroy(gfmd_topo **t);
+
+/** The message of the last failed call on @p t, as gfmd_last_error(). */
+GFMD_API int32_t gfmd_topo_last_error(const gfmd_topo *t, char *buf, int64_t len);
+
+/** Grid size and physical size (the caller's unit).  Any output pointer may be NULL. */
+GFMD_API int32_t gfmd_topo_get_grid(const gfmd_topo *t, int64_t *nx, int64_t *ny, double *lx, double *ly);
+
+/**
+ * Where the topography came from: @p format the GFMD_TOPO_* read (GFMD_TOPO_AUTO: given by the
+ * caller), @p has_units 1 if the file gave physical units (converted to the caller's), 0 if its
+ * numbers were taken as they are; @p missing the count of missing (NaN) points.  Any output
+ * pointer may be NULL.
+ */
+GFMD_API int32_t gfmd_topo_get_info(const gfmd_topo *t, int32_t *format, int32_t *has_units, int64_t *missing);
+
+/** Set the physical size (a file without units); finite and > 0. */
+GFMD_API int32_t gfmd_topo_set_physical_size(gfmd_topo *t, double lx, double ly);
+
+/** Copy the nx x ny heights (x fastest, NaN at missing points) into @p h. */
+GFMD_API int32_t gfmd_topo_get_heights(const gfmd_topo *t, double *h);
+
+/**
+ * Fill the missing points (GFMD_FILL_NEAREST: the nearest measured point's value;
+ * GFMD_FILL_LAPLACE: the harmonic interpolation, the measured points fixed and no flux through the
+ * scan's border).  @return GFMD_ERR_STATE if every point is missing.
+ */
+GFMD_API int32_t gfmd_topo_fill_missing(gfmd_topo *t, int32_t method);
+
+/**
+ * Subtract the least-squares fit of the measured points by a constant (GFMD_DETREND_HEIGHT), a
+ * plane (GFMD_DETREND_PLANE) or a second-order polynomial (GFMD_DETREND_CURVATURE); missing
+ * points stay missing.
+ */
+GFMD_API int32_t gfmd_topo_detrend(gfmd_topo *t, int32_t mode);
+
+/**
+ * The radially averaged power spectral density C(q) = lx ly / (2 pi)^2 <|h_q|^2> (h_q the
+ * normalized Fourier coefficients, h(r) = sum_q h_q e^{iqr}, of the mean-free heights, after the
+ * window), averaged over @p nbins bins of |q| spaced evenly in ln q from the smallest to the
+ * largest nonzero wavevector of the grid: q[k] the modes' mean |q|, c[k] their mean C(q), count[k]
+ * how many modes of the full plane fell in the bin (an empty bin: its centre, C = 0, count 0).
+ * Parseval: sum_k count[k] c[k] (2 pi)^2 / (lx ly) is the variance of the (windowed) heights.
+ * @p count may be NULL.  @return GFMD_ERR_STATE if points are missing (fill them first).
+ */
+GFMD_API int32_t gfmd_topo_psd(const gfmd_topo *t, int32_t window, int64_t nbins, double *q, double *c,
+                               int64_t *count);
+
+/**
+ * The profiles' PSD along x, averaged over the ny rows: C1(q) = lx / (2 pi) <|h_k|^2> at
+ * q = 2 pi k / lx, k = 0..nx/2 (nx/2 + 1 values; @p capacity room for them), each row mean-free
+ * (and windowed along x): sum over k of w_k C1 (2 pi / lx) is the profiles' mean variance, w_k = 2
+ * but for k = 0 and the Nyquist mode (1).  @param n receives nx/2 + 1.
+ * @return GFMD_ERR_TRUNCATED if capacity < nx/2 + 1 (the first capacity values written).
+ */
+GFMD_API int32_t gfmd_topo_profile_psd(const gfmd_topo *t, int32_t window, int64_t capacity, double *q, double *c,
+                                       int64_t *n);
+
+/**
+ * The spectrum's moments (every mode, not the bins): rms height sqrt(sum |h_q|^2), rms slope
+ * sqrt(sum q^2 |h_q|^2) and rms curvature sqrt(sum q^4 |h_q|^2) / 2 (of the mean curvature
+ * laplacian(h) / 2), of the mean-free, windowed heights.  Any output pointer may be NULL.
+ */
+GFMD_API int32_t gfmd_topo_moments(const gfmd_topo *t, int32_t window, double *rms_height, double *rms_slope,
+                                   double *rms_curvature);
+
+/**
+ * Persson's relative contact area erf(sigma0 / sqrt(2 V)) of the topography pressed on a body
+ * (GFMD_GREEN_*, with its width and nu as gfmd_set_green() / gfmd_set_poisson(), contact modulus
+ * e_star), V = sum_q |h_q|^2 (q E* / (2 f(q w)))^2 from the topography's own spectrum (windowed);
+ * @p variance (may be NULL) receives V.  The same as gfmd_persson_contact_area() of a simulation
+ * whose heights are the topography's (periodic scans, GFMD_WINDOW_NONE).
+ */
+GFMD_API int32_t gfmd_topo_persson_contact_area(const gfmd_topo *t, int32_t window, int32_t kind, double width,
+                                                double nu, double e_star, double sigma0, double *rel_area,
+                                                double *variance);
+
 #ifdef __cplusplus
 }
 #endif
