@@ -23,6 +23,29 @@ module gfmd
   public :: gfmd_sim_t, gfmd_version, gfmd_status_string, gfmd_green_factor, gfmd_least_squares
   public :: gfmd_import_wisdom, gfmd_export_wisdom
   public :: gfmd_sim_adopt, gfmd_sim_c_handle, gfmd_label_patches
+  public :: gfmd_topo_t, gfmd_topo_c_handle
+
+  !> A measured topography (gfmd_topo_*): heights h(nx, ny), NaN at missing points, read from an
+  !> instrument's file or given.  Free it with `call topo%destroy()`.
+  type :: gfmd_topo_t
+    private
+    type(c_ptr) :: ptr = c_null_ptr
+  contains
+    procedure :: read => topo_read
+    procedure :: from_heights => topo_from_heights
+    procedure :: destroy => topo_destroy
+    procedure :: get_grid => topo_get_grid
+    procedure :: get_info => topo_get_info
+    procedure :: set_physical_size => topo_set_physical_size
+    procedure :: get_heights => topo_get_heights
+    procedure :: fill_missing => topo_fill_missing
+    procedure :: detrend => topo_detrend
+    procedure :: psd => topo_psd
+    procedure :: profile_psd => topo_profile_psd
+    procedure :: moments => topo_moments
+    procedure :: persson_contact_area => topo_persson_contact_area
+    final :: topo_final
+  end type gfmd_topo_t
 
   !> A simulation: owns one C handle.
   type :: gfmd_sim_t
@@ -815,6 +838,7 @@ contains
     integer(c_int64_t) :: n
     integer(c_int32_t) :: st, conn
     real(c_double) :: none(1)
+    n = 0
     conn = 4
     if (present(connectivity)) conn = int(connectivity, c_int32_t)
     st = c_gfmd_get_patch_property(self%ptr, conn, int(property, c_int32_t), 0_c_int64_t, none, n)
@@ -900,5 +924,274 @@ contains
     type(c_ptr) :: handle
     handle = sim%ptr
   end function gfmd_sim_c_handle
+
+  ! ------------------------------------------------------------------ measured topographies
+
+  !> The topography's message of its last failure.
+  function topo_message(p) result(msg)
+    type(c_ptr), intent(in) :: p
+    character(:), allocatable :: msg
+    character(kind=c_char) :: buf(512)
+    buf = char(0)
+    msg = ''
+    if (.not. c_associated(p)) then
+      msg = 'the topography has not been made (call read or from_heights first)'
+      return
+    end if
+    if (c_gfmd_topo_last_error(p, buf, int(size(buf), c_int64_t)) < 0) return
+    msg = buffer_text(buf)
+  end function topo_message
+
+  subroutine topo_finish(self, st, where, stat, errmsg)
+    class(gfmd_topo_t), intent(in) :: self
+    integer(c_int32_t), intent(in) :: st
+    character(*), intent(in) :: where
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    if (st == GFMD_OK) then
+      call finish(c_null_ptr, st, where, stat, errmsg)
+    else
+      call finish(c_null_ptr, st, where, stat, errmsg, topo_message(self%ptr))
+    end if
+  end subroutine topo_finish
+
+  !> Read a topography file (format GFMD_TOPO_AUTO by default: detected), lengths converted to
+  !> the caller's unit, `unit` metres long (default 1: metres) where the file has units.
+  subroutine topo_read(self, path, unit, format, stat, errmsg)
+    class(gfmd_topo_t), intent(inout) :: self
+    character(*), intent(in) :: path
+    real(dp), intent(in), optional :: unit
+    integer, intent(in), optional :: format
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    type(c_ptr) :: p
+    integer(c_int32_t) :: st, f
+    real(c_double) :: u
+    character(kind=c_char) :: buf(512)
+    buf = char(0)
+    u = 1.0_dp
+    if (present(unit)) u = unit
+    f = GFMD_TOPO_AUTO
+    if (present(format)) f = int(format, c_int32_t)
+    st = c_gfmd_topo_read(c_path(path), f, u, p, buf, int(size(buf), c_int64_t))
+    if (st == GFMD_OK) then
+      call c_gfmd_topo_destroy(self%ptr)
+      self%ptr = p
+    end if
+    call finish(c_null_ptr, st, 'topo%read', stat, errmsg, buffer_text(buf))
+  end subroutine topo_read
+
+  !> A topography of h(nx, ny) (NaN at missing points) on lx x ly.
+  subroutine topo_from_heights(self, h, lx, ly, stat, errmsg)
+    class(gfmd_topo_t), intent(inout) :: self
+    real(dp), intent(in), contiguous :: h(:, :)
+    real(dp), intent(in) :: lx, ly
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    type(c_ptr) :: p
+    integer(c_int32_t) :: st
+    st = c_gfmd_topo_from_heights(size(h, 1, kind=c_int64_t), size(h, 2, kind=c_int64_t), lx, ly, h, p)
+    if (st == GFMD_OK) then
+      call c_gfmd_topo_destroy(self%ptr)
+      self%ptr = p
+    end if
+    call finish(c_null_ptr, st, 'topo%from_heights', stat, errmsg)
+  end subroutine topo_from_heights
+
+  !> The C handle (for calls of the C API beside the module's); the object still owns it.
+  function gfmd_topo_c_handle(topo) result(handle)
+    type(gfmd_topo_t), intent(in) :: topo
+    type(c_ptr) :: handle
+    handle = topo%ptr
+  end function gfmd_topo_c_handle
+
+  subroutine topo_destroy(self)
+    class(gfmd_topo_t), intent(inout) :: self
+    call c_gfmd_topo_destroy(self%ptr)
+  end subroutine topo_destroy
+
+  subroutine topo_final(self)
+    type(gfmd_topo_t), intent(inout) :: self
+    call c_gfmd_topo_destroy(self%ptr)
+  end subroutine topo_final
+
+  subroutine topo_get_grid(self, nx, ny, lx, ly, stat, errmsg)
+    class(gfmd_topo_t), intent(in) :: self
+    integer, intent(out) :: nx, ny
+    real(dp), intent(out) :: lx, ly
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    integer(c_int64_t) :: gx, gy
+    integer(c_int32_t) :: st
+    gx = 0
+    gy = 0
+    lx = 0
+    ly = 0
+    st = c_gfmd_topo_get_grid(self%ptr, gx, gy, lx, ly)
+    nx = int(gx)
+    ny = int(gy)
+    call topo_finish(self, st, 'topo%get_grid', stat, errmsg)
+  end subroutine topo_get_grid
+
+  !> format (GFMD_TOPO_*), has_units (the file gave physical units), missing (NaN points).
+  subroutine topo_get_info(self, format, has_units, missing, stat, errmsg)
+    class(gfmd_topo_t), intent(in) :: self
+    integer, intent(out) :: format
+    logical, intent(out) :: has_units
+    integer, intent(out) :: missing
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    integer(c_int32_t) :: f, u, st
+    integer(c_int64_t) :: m
+    f = 0
+    u = 0
+    m = 0
+    st = c_gfmd_topo_get_info(self%ptr, f, u, m)
+    format = int(f)
+    has_units = u /= 0
+    missing = int(m)
+    call topo_finish(self, st, 'topo%get_info', stat, errmsg)
+  end subroutine topo_get_info
+
+  subroutine topo_set_physical_size(self, lx, ly, stat, errmsg)
+    class(gfmd_topo_t), intent(inout) :: self
+    real(dp), intent(in) :: lx, ly
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    call topo_finish(self, c_gfmd_topo_set_physical_size(self%ptr, lx, ly), 'topo%set_physical_size', stat, errmsg)
+  end subroutine topo_set_physical_size
+
+  !> h(nx, ny): the heights, NaN at missing points.
+  subroutine topo_get_heights(self, h, stat, errmsg)
+    class(gfmd_topo_t), intent(in) :: self
+    real(dp), intent(inout), contiguous :: h(:, :)
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    integer :: nx, ny, st
+    real(dp) :: lx, ly
+    call topo_get_grid(self, nx, ny, lx, ly, st)
+    if (st == GFMD_OK .and. (size(h, 1) /= nx .or. size(h, 2) /= ny)) then
+      call finish(c_null_ptr, int(GFMD_ERR_INVALID_ARG, c_int32_t), 'topo%get_heights', stat, errmsg, &
+                  'h must have the shape (nx, ny) of the topography')
+      return
+    end if
+    call topo_finish(self, c_gfmd_topo_get_heights(self%ptr, h), 'topo%get_heights', stat, errmsg)
+  end subroutine topo_get_heights
+
+  !> GFMD_FILL_LAPLACE (default) or GFMD_FILL_NEAREST.
+  subroutine topo_fill_missing(self, method, stat, errmsg)
+    class(gfmd_topo_t), intent(inout) :: self
+    integer, intent(in), optional :: method
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    integer(c_int32_t) :: m
+    m = GFMD_FILL_LAPLACE
+    if (present(method)) m = int(method, c_int32_t)
+    call topo_finish(self, c_gfmd_topo_fill_missing(self%ptr, m), 'topo%fill_missing', stat, errmsg)
+  end subroutine topo_fill_missing
+
+  !> GFMD_DETREND_HEIGHT, _PLANE (default) or _CURVATURE.
+  subroutine topo_detrend(self, mode, stat, errmsg)
+    class(gfmd_topo_t), intent(inout) :: self
+    integer, intent(in), optional :: mode
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    integer(c_int32_t) :: m
+    m = GFMD_DETREND_PLANE
+    if (present(mode)) m = int(mode, c_int32_t)
+    call topo_finish(self, c_gfmd_topo_detrend(self%ptr, m), 'topo%detrend', stat, errmsg)
+  end subroutine topo_detrend
+
+  !> The radially averaged PSD over size(q) log-spaced bins (gfmd_topo_psd); count optional.
+  subroutine topo_psd(self, q, c, count, window, stat, errmsg)
+    class(gfmd_topo_t), intent(in) :: self
+    real(dp), intent(inout), contiguous :: q(:), c(:)
+    integer, intent(out), optional :: count(:)
+    integer, intent(in), optional :: window
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    integer(c_int64_t), allocatable :: n(:)
+    integer(c_int32_t) :: w, st
+    w = GFMD_WINDOW_NONE
+    if (present(window)) w = int(window, c_int32_t)
+    if (size(c) /= size(q)) then
+      call finish(c_null_ptr, int(GFMD_ERR_INVALID_ARG, c_int32_t), 'topo%psd', stat, errmsg, &
+                  'q and c must have one size, the number of bins')
+      return
+    end if
+    allocate (n(size(q)))
+    st = c_gfmd_topo_psd(self%ptr, w, size(q, kind=c_int64_t), q, c, n)
+    if (st == GFMD_OK .and. present(count)) count = int(n)
+    call topo_finish(self, st, 'topo%psd', stat, errmsg)
+  end subroutine topo_psd
+
+  !> The profiles' PSD along x: q(0:nx/2), c(0:nx/2) allocated here.
+  subroutine topo_profile_psd(self, q, c, window, stat, errmsg)
+    class(gfmd_topo_t), intent(in) :: self
+    real(dp), allocatable, intent(out) :: q(:), c(:)
+    integer, intent(in), optional :: window
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    integer(c_int32_t) :: w, st
+    integer(c_int64_t) :: n
+    integer :: nx, ny
+    real(dp) :: lx, ly
+    n = 0
+    w = GFMD_WINDOW_NONE
+    if (present(window)) w = int(window, c_int32_t)
+    call topo_get_grid(self, nx, ny, lx, ly, st)
+    allocate (q(0:max(nx / 2, 0)), c(0:max(nx / 2, 0)))
+    q = 0
+    c = 0
+    st = c_gfmd_topo_profile_psd(self%ptr, w, size(q, kind=c_int64_t), q, c, n)
+    call topo_finish(self, st, 'topo%profile_psd', stat, errmsg)
+  end subroutine topo_profile_psd
+
+  !> rms height, slope and curvature from the spectrum (gfmd_topo_moments).
+  subroutine topo_moments(self, rms_height, rms_slope, rms_curvature, window, stat, errmsg)
+    class(gfmd_topo_t), intent(in) :: self
+    real(dp), intent(out) :: rms_height, rms_slope, rms_curvature
+    integer, intent(in), optional :: window
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    integer(c_int32_t) :: w
+    w = GFMD_WINDOW_NONE
+    if (present(window)) w = int(window, c_int32_t)
+    rms_height = 0
+    rms_slope = 0
+    rms_curvature = 0
+    call topo_finish(self, c_gfmd_topo_moments(self%ptr, w, rms_height, rms_slope, rms_curvature), 'topo%moments', &
+                     stat, errmsg)
+  end subroutine topo_moments
+
+  !> Persson's A/A0 at sigma0 from the topography's spectrum on a body (default: a half-space,
+  !> E* = 1); variance optional.
+  subroutine topo_persson_contact_area(self, sigma0, area, kind, width, nu, e_star, window, variance, stat, errmsg)
+    class(gfmd_topo_t), intent(in) :: self
+    real(dp), intent(in) :: sigma0
+    real(dp), intent(out) :: area
+    integer, intent(in), optional :: kind, window
+    real(dp), intent(in), optional :: width, nu, e_star
+    real(dp), intent(out), optional :: variance
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    integer(c_int32_t) :: k, w
+    real(c_double) :: wd, n, e, v
+    k = GFMD_GREEN_HALFSPACE
+    if (present(kind)) k = int(kind, c_int32_t)
+    w = GFMD_WINDOW_NONE
+    if (present(window)) w = int(window, c_int32_t)
+    wd = 0
+    if (present(width)) wd = width
+    n = 0
+    if (present(nu)) n = nu
+    e = 1
+    if (present(e_star)) e = e_star
+    area = 0
+    v = 0
+    call topo_finish(self, c_gfmd_topo_persson_contact_area(self%ptr, w, k, wd, n, e, sigma0, area, v), &
+                     'topo%persson_contact_area', stat, errmsg)
+    if (present(variance)) variance = v
+  end subroutine topo_persson_contact_area
 
 end module gfmd

@@ -20,6 +20,10 @@ module gfmd_c_api
   public :: c_gfmd_persson_variance, c_gfmd_persson_contact_area, c_gfmd_persson_load, c_gfmd_least_squares
   public :: c_gfmd_set_hardness, c_gfmd_get_hardness, c_gfmd_get_plasticity
   public :: c_gfmd_label_patches, c_gfmd_get_contact_patches, c_gfmd_get_patch_property
+  public :: c_gfmd_topo_read, c_gfmd_topo_from_heights, c_gfmd_topo_destroy, c_gfmd_topo_last_error, &
+            c_gfmd_topo_get_grid, c_gfmd_topo_get_info, c_gfmd_topo_set_physical_size, c_gfmd_topo_get_heights, &
+            c_gfmd_topo_fill_missing, c_gfmd_topo_detrend, c_gfmd_topo_psd, c_gfmd_topo_profile_psd, &
+            c_gfmd_topo_moments, c_gfmd_topo_persson_contact_area
   public :: c_gfmd_get_pressure_histogram, c_gfmd_persson_pressure_distribution
 
   interface
@@ -520,6 +524,109 @@ module gfmd_c_api
       integer(c_int64_t), value :: n
       real(c_double), intent(in) :: p(*)
       real(c_double), intent(inout) :: density(*)
+      integer(c_int32_t) :: r
+    end function
+
+    ! the measured topographies (gfmd_topo_*)
+    function c_gfmd_topo_read(path, format, unit, out, errbuf, errlen) bind(C, name="gfmd_topo_read") result(r)
+      import :: c_ptr, c_char, c_int32_t, c_int64_t, c_double
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int32_t), value :: format
+      real(c_double), value :: unit
+      type(c_ptr), intent(out) :: out
+      character(kind=c_char), intent(out) :: errbuf(*)
+      integer(c_int64_t), value :: errlen
+      integer(c_int32_t) :: r
+    end function
+    function c_gfmd_topo_from_heights(nx, ny, lx, ly, h, out) bind(C, name="gfmd_topo_from_heights") result(r)
+      import :: c_ptr, c_int32_t, c_int64_t, c_double
+      integer(c_int64_t), value :: nx, ny
+      real(c_double), value :: lx, ly
+      real(c_double), intent(in) :: h(*)
+      type(c_ptr), intent(out) :: out
+      integer(c_int32_t) :: r
+    end function
+    subroutine c_gfmd_topo_destroy(t) bind(C, name="gfmd_topo_destroy")
+      import :: c_ptr
+      type(c_ptr), intent(inout) :: t
+    end subroutine
+    function c_gfmd_topo_last_error(t, buf, len) bind(C, name="gfmd_topo_last_error") result(r)
+      import :: c_ptr, c_char, c_int32_t, c_int64_t
+      type(c_ptr), value :: t
+      character(kind=c_char), intent(out) :: buf(*)
+      integer(c_int64_t), value :: len
+      integer(c_int32_t) :: r
+    end function
+    function c_gfmd_topo_get_grid(t, nx, ny, lx, ly) bind(C, name="gfmd_topo_get_grid") result(r)
+      import :: c_ptr, c_int32_t, c_int64_t, c_double
+      type(c_ptr), value :: t
+      integer(c_int64_t), intent(out) :: nx, ny
+      real(c_double), intent(out) :: lx, ly
+      integer(c_int32_t) :: r
+    end function
+    function c_gfmd_topo_get_info(t, format, has_units, missing) bind(C, name="gfmd_topo_get_info") result(r)
+      import :: c_ptr, c_int32_t, c_int64_t
+      type(c_ptr), value :: t
+      integer(c_int32_t), intent(out) :: format, has_units
+      integer(c_int64_t), intent(out) :: missing
+      integer(c_int32_t) :: r
+    end function
+    function c_gfmd_topo_set_physical_size(t, lx, ly) bind(C, name="gfmd_topo_set_physical_size") result(r)
+      import :: c_ptr, c_int32_t, c_double
+      type(c_ptr), value :: t
+      real(c_double), value :: lx, ly
+      integer(c_int32_t) :: r
+    end function
+    function c_gfmd_topo_get_heights(t, h) bind(C, name="gfmd_topo_get_heights") result(r)
+      import :: c_ptr, c_int32_t, c_double
+      type(c_ptr), value :: t
+      real(c_double), intent(inout) :: h(*)
+      integer(c_int32_t) :: r
+    end function
+    function c_gfmd_topo_fill_missing(t, method) bind(C, name="gfmd_topo_fill_missing") result(r)
+      import :: c_ptr, c_int32_t
+      type(c_ptr), value :: t
+      integer(c_int32_t), value :: method
+      integer(c_int32_t) :: r
+    end function
+    function c_gfmd_topo_detrend(t, mode) bind(C, name="gfmd_topo_detrend") result(r)
+      import :: c_ptr, c_int32_t
+      type(c_ptr), value :: t
+      integer(c_int32_t), value :: mode
+      integer(c_int32_t) :: r
+    end function
+    function c_gfmd_topo_psd(t, window, nbins, q, c, count) bind(C, name="gfmd_topo_psd") result(r)
+      import :: c_ptr, c_int32_t, c_int64_t, c_double
+      type(c_ptr), value :: t
+      integer(c_int32_t), value :: window
+      integer(c_int64_t), value :: nbins
+      real(c_double), intent(inout) :: q(*), c(*)
+      integer(c_int64_t), intent(inout) :: count(*)
+      integer(c_int32_t) :: r
+    end function
+    function c_gfmd_topo_profile_psd(t, window, capacity, q, c, n) bind(C, name="gfmd_topo_profile_psd") result(r)
+      import :: c_ptr, c_int32_t, c_int64_t, c_double
+      type(c_ptr), value :: t
+      integer(c_int32_t), value :: window
+      integer(c_int64_t), value :: capacity
+      real(c_double), intent(inout) :: q(*), c(*)
+      integer(c_int64_t), intent(out) :: n
+      integer(c_int32_t) :: r
+    end function
+    function c_gfmd_topo_moments(t, window, h, s, k) bind(C, name="gfmd_topo_moments") result(r)
+      import :: c_ptr, c_int32_t, c_double
+      type(c_ptr), value :: t
+      integer(c_int32_t), value :: window
+      real(c_double), intent(out) :: h, s, k
+      integer(c_int32_t) :: r
+    end function
+    function c_gfmd_topo_persson_contact_area(t, window, kind, width, nu, e_star, sigma0, area, variance) &
+        bind(C, name="gfmd_topo_persson_contact_area") result(r)
+      import :: c_ptr, c_int32_t, c_double
+      type(c_ptr), value :: t
+      integer(c_int32_t), value :: window, kind
+      real(c_double), value :: width, nu, e_star, sigma0
+      real(c_double), intent(out) :: area, variance
       integer(c_int32_t) :: r
     end function
   end interface

@@ -19,6 +19,7 @@ program test_fortran_bindings
   call theory_and_fits()
   call wide_seed_and_creation_options()
   call patches_histogram_and_plasticity()
+  call topographies()
 
   print '(i0, " passed, ", i0, " failed")', passed, failed
   if (failed > 0) error stop 1
@@ -344,6 +345,66 @@ contains
 
   !> Save, load, and continue: the same as continuing the original, bit for bit; a damaged
   !> file is refused through stat and leaves the object as it was.
+  !> A text matrix written here read back bit for bit (x fastest: h(nx, ny)); a generated
+  !> surface's spectrum through the module against the C calls on the same handle, bit for bit;
+  !> its rms slope the generator's; Persson's area the simulation's; errors through stat.
+  subroutine topographies()
+    integer, parameter :: nx = 6, ny = 4, n = 64, nb = 12
+    type(gfmd_topo_t) :: t, g
+    type(gfmd_sim_t) :: sim
+    real(dp) :: h(nx, ny), back(nx, ny), hs(n, n), q(nb), c(nb), qc(nb), cc(nb), lx, ly
+    real(dp) :: rh, rs, rk, a, sa, v
+    real(dp), allocatable :: q1(:), c1(:)
+    integer :: i, j, u, gx, gy, f, m, st, count(nb)
+    integer(c_int64_t) :: countc(nb)
+    logical :: units
+    do j = 1, ny
+      do i = 1, nx
+        h(i, j) = real(i * 7 + j * 13, dp) / 8.0_dp
+      end do
+    end do
+    open (newunit=u, file='fortran_topo.txt', status='replace', action='write')
+    write (u, '(a)') '# a scan exported as text'
+    do j = 1, ny
+      write (u, '(*(g0, :, " "))') (h(i, j), i = 1, nx)
+    end do
+    close (u)
+    call t%read('fortran_topo.txt')
+    call t%get_grid(gx, gy, lx, ly)
+    call t%get_info(f, units, m)
+    call check(gx == nx .and. gy == ny .and. f == GFMD_TOPO_MATRIX .and. .not. units .and. m == 0, &
+               'a text matrix: its grid, format, no units, nothing missing')
+    call t%get_heights(back)
+    call check(all(back == h), 'read back bit for bit, x fastest')
+    call t%read('no/such/file.txt', stat=st)
+    call check(st == GFMD_ERR_IO, 'a missing file: GFMD_ERR_IO')
+    call t%fill_missing(method=9, stat=st)
+    call check(st == GFMD_ERR_BAD_ENUM, 'an unknown fill method is refused')
+    call t%destroy()
+
+    call sim%create(n, n, real(n, dp), real(n, dp), planner=GFMD_PLANNER_ESTIMATE)
+    call sim%generate_selfaffine(0.8_dp, 32.0_dp, 4.0_dp, 0.3_dp, seed=9)
+    call sim%get_heights(hs)
+    call g%from_heights(hs, real(n, dp), real(n, dp))
+    call g%psd(q, c, count)
+    call check(sum(count) == n * n - 1, 'every mode but q = 0 in the bins')
+    call g%moments(rh, rs, rk)
+    call check(abs(rs / 0.3_dp - 1) < 1e-12_dp, 'the rms slope is the generator''s rms gradient')
+    call g%persson_contact_area(0.05_dp, a, variance=v)
+    call sim%persson_contact_area(0.05_dp, sa)
+    call check(abs(a / sa - 1) < 1e-12_dp, 'Persson''s area of the topography is the simulation''s')
+    call g%profile_psd(q1, c1)
+    call check(size(q1) == n / 2 + 1 .and. abs(q1(1) - 8.0_dp * atan(1.0_dp) / n) < 1e-15_dp, &
+               'the profiles'' PSD: nx/2 + 1 wavenumbers 2 pi k / lx')
+    ! the same bins from the C call on the same handle: equal to the bit
+    qc = 0
+    cc = 0
+    call check(c_gfmd_topo_psd(gfmd_topo_c_handle(g), GFMD_WINDOW_NONE, int(nb, c_int64_t), qc, cc, countc) == 0, 'C psd')
+    call check(all(q == qc) .and. all(c == cc) .and. all(count == countc), 'the module''s PSD is the C API''s')
+    call g%destroy()
+    call sim%destroy()
+  end subroutine topographies
+
   subroutine checkpoint_restart()
     type(gfmd_sim_t) :: a, b
     real(dp) :: za(24, 16), zb(24, 16), area
