@@ -264,6 +264,171 @@ def load(path: PathLike, comm=None) -> "Simulation":
     return Simulation._adopt(out, lib)
 
 
+
+# ------------------------------------------------------------------ measured topographies
+_FORMATS = {"auto": 0, "matrix": 1, "xyz": 2, "gsf": 3, "sdf_text": 4, "sdf_binary": 5, "npy": 6}
+_FILLS = {"nearest": _VALUES["GFMD_FILL_NEAREST"], "laplace": _VALUES["GFMD_FILL_LAPLACE"]}
+_TRENDS = {"height": _VALUES["GFMD_DETREND_HEIGHT"], "plane": _VALUES["GFMD_DETREND_PLANE"],
+           "curvature": _VALUES["GFMD_DETREND_CURVATURE"]}
+_WINDOWS = {None: _VALUES["GFMD_WINDOW_NONE"], "none": _VALUES["GFMD_WINDOW_NONE"],
+            "hann": _VALUES["GFMD_WINDOW_HANN"]}
+
+
+def _choice(table, value, what):
+    if isinstance(value, (int, np.integer)) and not isinstance(value, bool):
+        return int(value)
+    try:
+        return table[value if value is None else str(value).lower()]
+    except KeyError:
+        raise BadEnum(_VALUES["GFMD_ERR_BAD_ENUM"], f"unknown {what} {value!r}; one of {sorted(k for k in table if k)}") from None
+
+
+class Topography:
+    """A measured (or given) topography: heights (ny, nx), NaN at missing points, on a rectangle
+    physical_size = (lx, ly), lengths in `unit` metres (the unit asked for when reading).
+
+    Read one with read_topography(); make one from an array with Topography.from_heights()."""
+
+    def __init__(self, handle, unit: float) -> None:
+        self._h = handle
+        self._lib = _c()
+        self.unit = float(unit)
+
+    @classmethod
+    def from_heights(cls, h: npt.ArrayLike, physical_size: Tuple[float, float], unit: float = 1.0) -> "Topography":
+        """A topography of the array h (ny, nx), NaN at missing points, on physical_size (lx, ly)."""
+        a = np.ascontiguousarray(np.asarray(h, dtype=np.float64))
+        if a.ndim != 2:
+            raise InvalidArgument(_VALUES["GFMD_ERR_INVALID_ARG"], f"heights must be 2-D (ny, nx), got shape {a.shape}")
+        out = ctypes.c_void_p()
+        st = _c().gfmd_topo_from_heights(a.shape[1], a.shape[0], float(physical_size[0]), float(physical_size[1]),
+                                         a.ctypes.data_as(_library.c_double_p), ctypes.byref(out))
+        if st:
+            _raise(st, f"cannot make a topography of a {a.shape} array on {physical_size}")
+        return cls(out, unit)
+
+    def close(self) -> None:
+        if getattr(self, "_h", None) and self._h.value:
+            self._lib.gfmd_topo_destroy(ctypes.byref(self._h))
+
+    def __del__(self):
+        self.close()
+
+    def __enter__(self) -> "Topography":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def _check(self, st: int, what: str) -> None:
+        if st:
+            msg = ctypes.create_string_buffer(512)
+            self._lib.gfmd_topo_last_error(self._h, msg, len(msg))
+            _raise(st, f"{what}: {msg.value.decode(errors='replace')}")
+
+    def _grid(self):
+        nx, ny, lx, ly = ctypes.c_int64(), ctypes.c_int64(), ctypes.c_double(), ctypes.c_double()
+        self._check(self._lib.gfmd_topo_get_grid(self._h, ctypes.byref(nx), ctypes.byref(ny), ctypes.byref(lx),
+                                                 ctypes.byref(ly)), "get_grid")
+        return nx.value, ny.value, lx.value, ly.value
+
+    def _info(self):
+        f, u, m = ctypes.c_int32(), ctypes.c_int32(), ctypes.c_int64()
+        self._check(self._lib.gfmd_topo_get_info(self._h, ctypes.byref(f), ctypes.byref(u), ctypes.byref(m)), "get_info")
+        return f.value, bool(u.value), m.value
+
+    @property
+    def shape(self) -> Tuple[int, int]:
+        """(ny, nx)."""
+        nx, ny, _, _ = self._grid()
+        return (ny, nx)
+
+    @property
+    def physical_size(self) -> Tuple[float, float]:
+        """(lx, ly) in `unit`; settable (a file without units has a spacing of 1)."""
+        return self._grid()[2:]
+
+    @physical_size.setter
+    def physical_size(self, size: Tuple[float, float]) -> None:
+        self._check(self._lib.gfmd_topo_set_physical_size(self._h, float(size[0]), float(size[1])), "physical_size")
+
+    @property
+    def format(self) -> str:
+        """The file format read ("auto": made from an array)."""
+        f = self._info()[0]
+        return next(k for k, v in _FORMATS.items() if v == f)
+
+    @property
+    def has_units(self) -> bool:
+        """Whether the file gave physical units (converted to `unit`) or its numbers were kept."""
+        return self._info()[1]
+
+    @property
+    def missing(self) -> int:
+        """The number of missing (NaN) points."""
+        return self._info()[2]
+
+    @property
+    def heights(self) -> FloatArray:
+        """A copy of the heights (ny, nx), NaN at missing points."""
+        out = np.empty(self.shape)
+        self._check(self._lib.gfmd_topo_get_heights(self._h, out.ctypes.data_as(_library.c_double_p)), "heights")
+        return out
+
+    def fill_missing(self, method: Union[str, int] = "laplace") -> None:
+        """Fill the missing points: "laplace" (harmonic interpolation) or "nearest"."""
+        self._check(self._lib.gfmd_topo_fill_missing(self._h, _choice(_FILLS, method, "fill method")), "fill_missing")
+
+    def detrend(self, mode: Union[str, int] = "plane") -> None:
+        """Subtract the least-squares "height" (mean), "plane" or "curvature" (second order)."""
+        self._check(self._lib.gfmd_topo_detrend(self._h, _choice(_TRENDS, mode, "detrend mode")), "detrend")
+
+    def psd(self, nbins: int = 32, window: Optional[str] = None) -> Tuple[FloatArray, FloatArray, IntArray]:
+        """(q, C, count): the radially averaged PSD over nbins log-spaced bins of |q| (gfmd.h's
+        gfmd_topo_psd: sum count C (2 pi)^2 / (lx ly) = the variance); window None or "hann"."""
+        q, c, n = np.empty(int(nbins)), np.empty(int(nbins)), np.empty(int(nbins), dtype=np.int64)
+        self._check(self._lib.gfmd_topo_psd(self._h, _choice(_WINDOWS, window, "window"), int(nbins),
+                                            q.ctypes.data_as(_library.c_double_p), c.ctypes.data_as(_library.c_double_p),
+                                            n.ctypes.data_as(_library.c_int64_p)), "psd")
+        return q, c, n
+
+    def profile_psd(self, window: Optional[str] = None) -> Tuple[FloatArray, FloatArray]:
+        """(q, C1): the profiles' PSD along x, averaged over the rows (gfmd_topo_profile_psd)."""
+        m = self.shape[1] // 2 + 1
+        q, c, n = np.empty(m), np.empty(m), ctypes.c_int64()
+        self._check(self._lib.gfmd_topo_profile_psd(self._h, _choice(_WINDOWS, window, "window"), m,
+                                                    q.ctypes.data_as(_library.c_double_p),
+                                                    c.ctypes.data_as(_library.c_double_p), ctypes.byref(n)), "profile_psd")
+        return q, c
+
+    def moments(self, window: Optional[str] = None) -> Tuple[float, float, float]:
+        """(rms height, rms slope, rms curvature) from every mode of the spectrum."""
+        h, s, k = ctypes.c_double(), ctypes.c_double(), ctypes.c_double()
+        self._check(self._lib.gfmd_topo_moments(self._h, _choice(_WINDOWS, window, "window"), ctypes.byref(h),
+                                                ctypes.byref(s), ctypes.byref(k)), "moments")
+        return h.value, s.value, k.value
+
+    def persson_contact_area(self, sigma0: float, kind: int = HALFSPACE, width: float = 0.0, nu: float = 0.0,
+                             e_star: float = 1.0, window: Optional[str] = None) -> float:
+        """Persson's A/A0 at sigma0 from this topography's spectrum, on a body (gfmd.h)."""
+        a, v = ctypes.c_double(), ctypes.c_double()
+        self._check(self._lib.gfmd_topo_persson_contact_area(self._h, _choice(_WINDOWS, window, "window"), int(kind),
+                                                             float(width), float(nu), float(e_star), float(sigma0),
+                                                             ctypes.byref(a), ctypes.byref(v)), "persson_contact_area")
+        return a.value
+
+
+def read_topography(path: PathLike, unit: float = 1.0, format: Union[str, int] = "auto") -> Topography:
+    """Read a topography file (text matrix, x y z, .gsf, .sdf text or binary, .npy; detected from
+    the content), lengths converted to `unit` metres (1e-6: micrometres) where the file has units."""
+    out = ctypes.c_void_p()
+    msg = ctypes.create_string_buffer(512)
+    st = _c().gfmd_topo_read(os.fsencode(path), _choice(_FORMATS, format, "format"), float(unit), ctypes.byref(out),
+                             msg, len(msg))
+    if st:
+        _raise(st, msg.value.decode(errors="replace"))
+    return Topography(out, unit)
+
 # ------------------------------------------------------------------ the simulation
 class Simulation:
     """One GFMD simulation (owns one C handle): nx x ny points on a periodic lx x ly cell.
@@ -289,6 +454,19 @@ class Simulation:
         self._distributed = comm is not None
         if comm is not None and threads:
             self.set_threads(threads)
+
+    @classmethod
+    def from_topography(cls, topo: "Topography", threads: int = 0, planner: Optional[int] = None) -> "Simulation":
+        """A simulation whose grid, cell and substrate are the topography's (its missing points
+        filled first: StateError otherwise).  The cell is periodic (a measured scan: detrend it)."""
+        if topo.missing:
+            raise StateError(_VALUES["GFMD_ERR_STATE"],
+                             f"{topo.missing} missing points: call fill_missing() on the topography first")
+        ny, nx = topo.shape
+        lx, ly = topo.physical_size
+        sim = cls(nx, ny, lx, ly, threads=threads, planner=planner)
+        sim.set_heights(topo.heights)
+        return sim
 
     @classmethod
     def _adopt(cls, handle, lib=None):

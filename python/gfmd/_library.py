@@ -112,6 +112,20 @@ _PROTOTYPES = {
     "gfmd_get_patch_property": (_sim, _i32, _i32, _i64, c_double_p, c_int64_p),
     "gfmd_get_pressure_histogram": (_sim, _i64, c_double_p, c_double_p, c_double_p),
     "gfmd_persson_pressure_distribution": (_sim, _dbl, _i64, c_double_p, c_double_p),
+    "gfmd_topo_read": (_str, _i32, _dbl, _sim_p, ctypes.c_char_p, _i64),
+    "gfmd_topo_from_heights": (_i64, _i64, _dbl, _dbl, c_double_p, _sim_p),
+    "gfmd_topo_destroy": (_sim_p,),
+    "gfmd_topo_last_error": (_sim, ctypes.c_char_p, _i64),
+    "gfmd_topo_get_grid": (_sim, c_int64_p, c_int64_p, c_double_p, c_double_p),
+    "gfmd_topo_get_info": (_sim, c_int32_p, c_int32_p, c_int64_p),
+    "gfmd_topo_set_physical_size": (_sim, _dbl, _dbl),
+    "gfmd_topo_get_heights": (_sim, c_double_p),
+    "gfmd_topo_fill_missing": (_sim, _i32),
+    "gfmd_topo_detrend": (_sim, _i32),
+    "gfmd_topo_psd": (_sim, _i32, _i64, c_double_p, c_double_p, c_int64_p),
+    "gfmd_topo_profile_psd": (_sim, _i32, _i64, c_double_p, c_double_p, c_int64_p),
+    "gfmd_topo_moments": (_sim, _i32, c_double_p, c_double_p, c_double_p),
+    "gfmd_topo_persson_contact_area": (_sim, _i32, _i32, _dbl, _dbl, _dbl, _dbl, c_double_p, c_double_p),
     "gfmd_version": (),
     "gfmd_status_string": (_i32,),
 }
@@ -128,7 +142,7 @@ _MPI_PROTOTYPES = {
     "gfmd_mpi_get_local_pressure": (_sim, c_double_p, _i64),
     "gfmd_mpi_get_local_contact_patches": (_sim, _i32, c_int64_p, _i64, c_int64_p),
 }
-_RESTYPE = {"gfmd_sim_destroy": None, "gfmd_version": ctypes.c_char_p, "gfmd_status_string": ctypes.c_char_p}
+_RESTYPE = {"gfmd_sim_destroy": None, "gfmd_topo_destroy": None, "gfmd_version": ctypes.c_char_p, "gfmd_status_string": ctypes.c_char_p}
 
 
 def _declare(lib, mpi=False):

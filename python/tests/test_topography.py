@@ -1,0 +1,90 @@
+"""Topographies from Python: what numpy saves reads back bit for bit (every dtype and order numpy
+writes), a Gwyddion text export with units, the spectrum's Parseval sum and numpy's own FFT as a
+second computation of C(q), the generator's rms gradient from the moments, and a simulation made
+from a topography in one line."""
+import numpy as np
+import pytest
+
+import gfmd
+
+
+@pytest.mark.parametrize("dtype", [np.float64, np.float32, np.int16, np.int32, np.uint8, ">f8"])
+@pytest.mark.parametrize("order", ["C", "F"])
+def test_npy_written_by_numpy_reads_back(tmp_path, dtype, order):
+    rng = np.random.default_rng(4)
+    h = np.asarray(rng.integers(-100, 100, size=(7, 11)), dtype=dtype, order=order)
+    np.save(tmp_path / "h.npy", h)
+    t = gfmd.read_topography(tmp_path / "h.npy")
+    assert (t.format, t.has_units, t.missing, t.shape) == ("npy", False, 0, (7, 11))
+    assert np.array_equal(t.heights, h.astype(np.float64))  # exact: small integers in every dtype
+    assert t.physical_size == (11.0, 7.0)  # a spacing of 1: no units in .npy
+    t.physical_size = (2.2, 1.4)
+    assert t.physical_size == (2.2, 1.4)
+
+
+def test_nan_points_are_missing_and_filled(tmp_path):
+    h = np.add.outer(0.5 * np.arange(9.0), -0.25 * np.arange(12.0))  # linear: harmonic
+    h[3:6, 4:8] = np.nan
+    np.save(tmp_path / "holes.npy", h)
+    t = gfmd.read_topography(tmp_path / "holes.npy")
+    assert t.missing == 12
+    with pytest.raises(gfmd.StateError, match="missing points"):
+        t.psd()
+    with pytest.raises(gfmd.StateError, match="fill_missing"):
+        gfmd.Simulation.from_topography(t)
+    t.fill_missing("laplace")
+    full = np.add.outer(0.5 * np.arange(9.0), -0.25 * np.arange(12.0))
+    assert np.max(np.abs(t.heights - full)) < 1e-11  # CG to 1e-13 of the boundary values
+    with pytest.raises(gfmd.BadEnum, match="unknown fill method 'bilinear'"):
+        t.fill_missing("bilinear")
+
+
+def test_gwyddion_text_export_with_units(tmp_path):
+    path = tmp_path / "scan.txt"
+    rows = "\n".join(" ".join(f"{v:g}" for v in row) for row in [[1e-9, 2e-9, 3e-9], [4e-9, 5e-9, 6e-9]])
+    path.write_text("# Channel: Height\n# Width: 3.000 um\n# Height: 2.000 um\n# Value units: m\n" + rows + "\n")
+    t = gfmd.read_topography(path, unit=1e-9)  # nanometres
+    assert t.has_units and t.format == "matrix"
+    assert t.physical_size == pytest.approx((3000.0, 2000.0), rel=1e-15)
+    assert t.heights == pytest.approx(np.array([[1, 2, 3], [4, 5, 6]], dtype=float), rel=1e-15)
+
+
+def test_psd_against_numpy_fft(tmp_path):
+    """C(q) of every bin from numpy's FFT of the same heights: a second computation."""
+    rng = np.random.default_rng(7)
+    ny, nx, lx, ly = 24, 40, 8.0, 5.0
+    h = rng.normal(size=(ny, nx))
+    t = gfmd.Topography.from_heights(h, (lx, ly))
+    nbins = 12
+    q, c, count = t.psd(nbins)
+    hq = np.fft.fft2(h - h.mean()) / h.size
+    qx = 2 * np.pi * np.fft.fftfreq(nx, d=lx / nx)
+    qy = 2 * np.pi * np.fft.fftfreq(ny, d=ly / ny)
+    qq = np.hypot(*np.meshgrid(qx, qy)).ravel()
+    a2 = (np.abs(hq) ** 2).ravel()
+    keep = qq > 0
+    qq, a2 = qq[keep], a2[keep]
+    edges = np.log(qq.min()) + np.log(qq.max() / qq.min()) * np.arange(nbins + 1) / nbins
+    k = np.minimum((nbins * np.log(qq / qq.min()) / np.log(qq.max() / qq.min())).astype(int), nbins - 1)
+    for b in range(nbins):
+        sel = k == b
+        assert count[b] == sel.sum()
+        if sel.any():
+            assert c[b] == pytest.approx(lx * ly / (2 * np.pi) ** 2 * a2[sel].mean(), rel=1e-12)
+            assert q[b] == pytest.approx(qq[sel].mean(), rel=1e-12)
+            assert np.exp(edges[b]) * (1 - 1e-12) <= q[b] <= np.exp(edges[b + 1]) * (1 + 1e-12)
+    assert (count * c).sum() * (2 * np.pi) ** 2 / (lx * ly) == pytest.approx(h.var(), rel=1e-12)
+    qp, c1 = t.profile_psd()
+    assert qp[1] == pytest.approx(2 * np.pi / lx)
+    w = np.where((np.arange(len(qp)) == 0) | (np.arange(len(qp)) == nx // 2), 1.0, 2.0)
+    assert (w * c1).sum() * 2 * np.pi / lx == pytest.approx(h.var(axis=1).mean(), rel=1e-12)
+
+
+def test_simulation_from_topography_and_persson():
+    with gfmd.Simulation(64, 64, 64.0, 64.0, planner=gfmd.ESTIMATE) as s:
+        s.generate_selfaffine(0.8, 32.0, 4.0, 0.2, seed=2)
+        t = gfmd.Topography.from_heights(s.heights(), (64.0, 64.0))
+        assert t.moments()[1] == pytest.approx(0.2, rel=1e-12)  # the generator's rms gradient
+        with gfmd.Simulation.from_topography(t, planner=gfmd.ESTIMATE) as r:
+            assert np.array_equal(r.heights(), s.heights())
+            assert t.persson_contact_area(0.01) == pytest.approx(r.persson_contact_area(0.01), rel=1e-12)
