@@ -617,6 +617,15 @@ GFMD_API int32_t gfmd_topo_fill_missing(gfmd_topo *t, int32_t method);
 GFMD_API int32_t gfmd_topo_detrend(gfmd_topo *t, int32_t mode);
 
 /**
+ * Resample onto nx x ny points (>= 2 a side) by Keys' cubic convolution (a = -1/2, separable: exact
+ * for polynomials up to second order away from the border, whose samples are continued as
+ * constants).  The new samples span the old ones' extent, first to last: the spacing becomes
+ * (n_old - 1)/(n_new - 1) of the old, and lx = nx times it.  The grid a solver wants (a power of
+ * two, a finer one) from a scan's.  @return GFMD_ERR_STATE if points are missing (fill them first).
+ */
+GFMD_API int32_t gfmd_topo_resample(gfmd_topo *t, int64_t nx, int64_t ny);
+
+/**
  * The radially averaged power spectral density C(q) = lx ly / (2 pi)^2 <|h_q|^2> (h_q the
  * normalized Fourier coefficients, h(r) = sum_q h_q e^{iqr}, of the mean-free heights, after the
  * window), averaged over @p nbins bins of |q| spaced evenly in ln q from the smallest to the

@@ -28,6 +28,9 @@ GFMD_LIBRARY="$root/build/libgfmd.so" MPLBACKEND=Agg PYTHONDONTWRITEBYTECODE=1 /
 # pressure distributions against Persson's, and a load-unload cycle at a hardness
 GFMD_LIBRARY="$root/build/libgfmd.so" MPLBACKEND=Agg PYTHONDONTWRITEBYTECODE=1 /usr/bin/python3 \
   "$root/examples/python/contact_patches.py" --out "$out"
+# A measured scan: an instrument's file read, filled, detrended, its spectrum and its contact
+GFMD_LIBRARY="$root/build/libgfmd.so" MPLBACKEND=Agg PYTHONDONTWRITEBYTECODE=1 /usr/bin/python3 \
+  "$root/examples/python/measured_scan.py" --out "$out"
 echo
 echo "tables: $out/*.csv"
-echo "plots:  $(cd "$out" && ls fig*.png contact_maps.png contact_patches.png | sed "s|^|$out/|" | tr '\n' ' ') $pull/fig8.png"
+echo "plots:  $(cd "$out" && ls fig*.png contact_maps.png contact_patches.png measured_scan.png | sed "s|^|$out/|" | tr '\n' ' ') $pull/fig8.png"

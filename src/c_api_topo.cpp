@@ -131,6 +131,10 @@ int32_t gfmd_topo_detrend(gfmd_topo *t, int32_t mode) {
     return changing(t, [&](gfmd::Topography &c) { gfmd::detrend(c, mode); });
 }
 
+int32_t gfmd_topo_resample(gfmd_topo *t, int64_t nx, int64_t ny) {
+    return changing(t, [&](gfmd::Topography &c) { gfmd::resample(c, nx, ny); });
+}
+
 int32_t gfmd_topo_psd(const gfmd_topo *t, int32_t window, int64_t nbins, double *q, double *c, int64_t *count) {
     return on_topo(t, [&] {
         need(q, "q");

@@ -432,8 +432,13 @@ Topography from_sdf_text(const std::string &bytes, double unit) {
     s.xscale = number("Xscale", true);
     s.yscale = number("Yscale", true);
     s.zscale = number("Zscale", true);
-    s.type = keys.count("datatype") ? static_cast<int>(number("DataType", false)) : 7;
-    sdf_check(s, static_cast<int>(number("Compression", false)), static_cast<int>(number("CheckType", false)));
+    // small integer codes: anything else (1e10, 2.5) is one the checks below refuse
+    const auto code = [&](const char *key, double fallback) {
+        const double v = keys.count(lower(key)) ? number(key, false) : fallback;
+        return (v >= 0.0 && v <= 255.0 && v == std::floor(v)) ? static_cast<int>(v) : 256;
+    };
+    s.type = code("DataType", 7);
+    sdf_check(s, code("Compression", 0), code("CheckType", 0));
     // every value takes at least 2 bytes of text: the count declared must fit in the file
     if (static_cast<uint64_t>(s.nx) * static_cast<uint64_t>(s.ny) > (bytes.size() - std::min(pos, bytes.size())) / 2 + 1)
         bad("sdf: the header declares " + std::to_string(s.nx) + " x " + std::to_string(s.ny) +
@@ -497,7 +502,8 @@ Topography from_npy(const std::string &bytes, double unit) {
     descr = descr.substr(1, descr.find(descr[0], 1) - 1);
     if (descr.size() < 3) bad("npy: unsupported dtype '" + descr + "'");
     const char order = descr[0], kind = descr[1];
-    const int size = std::atoi(descr.c_str() + 2);
+    const std::string digits = descr.substr(2);
+    const int size = digits == "1" || digits == "2" || digits == "4" || digits == "8" ? digits[0] - '0' : 0;
     const bool ok_kind = (kind == 'f' && (size == 4 || size == 8)) ||
                          ((kind == 'i' || kind == 'u') && (size == 1 || size == 2 || size == 4 || size == 8));
     if (!ok_kind || std::strchr("<>|=", order) == nullptr)
@@ -842,6 +848,54 @@ void detrend(Topography &t, int32_t mode) {
         h[static_cast<std::size_t>(i)] -= fit;
     }
     t.h.swap(h);
+}
+
+namespace {
+
+// Keys' cubic convolution kernel, a = -1/2
+double keys(double s) {
+    s = std::abs(s);
+    if (s <= 1.0) return (1.5 * s - 2.5) * s * s + 1.0;
+    if (s < 2.0) return ((-0.5 * s + 2.5) * s - 4.0) * s + 2.0;
+    return 0.0;
+}
+
+// v (n values, stride) at m points spanning the same extent, into out (m values, stride)
+void resample_line(const double *v, int64_t n, int64_t stride, int64_t m, double *out, int64_t out_stride) {
+    const double step = static_cast<double>(n - 1) / static_cast<double>(m - 1);
+    for (int64_t j = 0; j < m; ++j) {
+        const double x = j == m - 1 ? static_cast<double>(n - 1) : static_cast<double>(j) * step;
+        const auto i0 = static_cast<int64_t>(std::floor(x));
+        double sum = 0.0;
+        for (int64_t i = i0 - 1; i <= i0 + 2; ++i) {
+            const int64_t c = std::min(std::max<int64_t>(i, 0), n - 1);  // the border sample continued
+            sum += keys(x - static_cast<double>(i)) * v[c * stride];
+        }
+        out[j * out_stride] = sum;
+    }
+}
+
+}  // namespace
+
+void resample(Topography &t, int64_t nx, int64_t ny) {
+    if (nx < 2 || ny < 2 || nx > kMaxSide || ny > kMaxSide || nx > (int64_t{1} << 40) / ny)
+        fail(GFMD_ERR_INVALID_ARG, "the new grid needs 2..2^31 points a side (and at most 2^40 in all)");
+    if (t.nx < 2 || t.ny < 2) fail(GFMD_ERR_STATE, "a topography of one row or column cannot be resampled");
+    need_complete(t);
+    std::vector<double> rows(static_cast<std::size_t>(nx * t.ny)), out(static_cast<std::size_t>(nx * ny));
+    for (int64_t y = 0; y < t.ny; ++y)
+        resample_line(t.h.data() + y * t.nx, t.nx, 1, nx, rows.data() + y * nx, 1);
+    for (int64_t x = 0; x < nx; ++x) resample_line(rows.data() + x, t.ny, nx, ny, out.data() + x, nx);
+    // the samples' extent kept: (n - 1) spacings before, (n' - 1) after
+    const double lx = t.lx / static_cast<double>(t.nx) * static_cast<double>(t.nx - 1) / static_cast<double>(nx - 1) *
+                      static_cast<double>(nx);
+    const double ly = t.ly / static_cast<double>(t.ny) * static_cast<double>(t.ny - 1) / static_cast<double>(ny - 1) *
+                      static_cast<double>(ny);
+    t.h.swap(out);
+    t.nx = nx;
+    t.ny = ny;
+    t.lx = lx;
+    t.ly = ly;
 }
 
 RadialPsd radial_psd(const Topography &t, int32_t window, int64_t nbins) {

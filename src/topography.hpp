@@ -31,6 +31,9 @@ Topography topography_from_heights(int64_t nx, int64_t ny, double lx, double ly,
 
 void fill_missing(Topography &t, int32_t method);  // GFMD_FILL_*
 void detrend(Topography &t, int32_t mode);          // GFMD_DETREND_*
+// Keys' cubic convolution (a = -1/2: exact for quadratics) onto nx x ny points spanning the same
+// first-to-last sample extent; the border samples continued by reflection-free clamping.
+void resample(Topography &t, int64_t nx, int64_t ny);
 
 struct RadialPsd {
     std::vector<double> q, c;

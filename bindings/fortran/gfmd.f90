@@ -40,6 +40,7 @@ module gfmd
     procedure :: get_heights => topo_get_heights
     procedure :: fill_missing => topo_fill_missing
     procedure :: detrend => topo_detrend
+    procedure :: resample => topo_resample
     procedure :: psd => topo_psd
     procedure :: profile_psd => topo_profile_psd
     procedure :: moments => topo_moments
@@ -1101,6 +1102,16 @@ contains
     if (present(mode)) m = int(mode, c_int32_t)
     call topo_finish(self, c_gfmd_topo_detrend(self%ptr, m), 'topo%detrend', stat, errmsg)
   end subroutine topo_detrend
+
+  !> Resample onto nx x ny points (Keys' cubic convolution; gfmd_topo_resample).
+  subroutine topo_resample(self, nx, ny, stat, errmsg)
+    class(gfmd_topo_t), intent(inout) :: self
+    integer, intent(in) :: nx, ny
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    call topo_finish(self, c_gfmd_topo_resample(self%ptr, int(nx, c_int64_t), int(ny, c_int64_t)), 'topo%resample', &
+                     stat, errmsg)
+  end subroutine topo_resample
 
   !> The radially averaged PSD over size(q) log-spaced bins (gfmd_topo_psd); count optional.
   subroutine topo_psd(self, q, c, count, window, stat, errmsg)

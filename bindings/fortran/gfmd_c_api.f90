@@ -22,7 +22,7 @@ module gfmd_c_api
   public :: c_gfmd_label_patches, c_gfmd_get_contact_patches, c_gfmd_get_patch_property
   public :: c_gfmd_topo_read, c_gfmd_topo_from_heights, c_gfmd_topo_destroy, c_gfmd_topo_last_error, &
             c_gfmd_topo_get_grid, c_gfmd_topo_get_info, c_gfmd_topo_set_physical_size, c_gfmd_topo_get_heights, &
-            c_gfmd_topo_fill_missing, c_gfmd_topo_detrend, c_gfmd_topo_psd, c_gfmd_topo_profile_psd, &
+            c_gfmd_topo_fill_missing, c_gfmd_topo_detrend, c_gfmd_topo_resample, c_gfmd_topo_psd, c_gfmd_topo_profile_psd, &
             c_gfmd_topo_moments, c_gfmd_topo_persson_contact_area
   public :: c_gfmd_get_pressure_histogram, c_gfmd_persson_pressure_distribution
 
@@ -593,6 +593,12 @@ module gfmd_c_api
       import :: c_ptr, c_int32_t
       type(c_ptr), value :: t
       integer(c_int32_t), value :: mode
+      integer(c_int32_t) :: r
+    end function
+    function c_gfmd_topo_resample(t, nx, ny) bind(C, name="gfmd_topo_resample") result(r)
+      import :: c_ptr, c_int32_t, c_int64_t
+      type(c_ptr), value :: t
+      integer(c_int64_t), value :: nx, ny
       integer(c_int32_t) :: r
     end function
     function c_gfmd_topo_psd(t, window, nbins, q, c, count) bind(C, name="gfmd_topo_psd") result(r)

@@ -383,6 +383,10 @@ class Topography:
         """Subtract the least-squares "height" (mean), "plane" or "curvature" (second order)."""
         self._check(self._lib.gfmd_topo_detrend(self._h, _choice(_TRENDS, mode, "detrend mode")), "detrend")
 
+    def resample(self, shape: Tuple[int, int]) -> None:
+        """Resample onto shape (ny, nx) by Keys' cubic convolution, the samples' extent kept."""
+        self._check(self._lib.gfmd_topo_resample(self._h, int(shape[1]), int(shape[0])), "resample")
+
     def psd(self, nbins: int = 32, window: Optional[str] = None) -> Tuple[FloatArray, FloatArray, IntArray]:
         """(q, C, count): the radially averaged PSD over nbins log-spaced bins of |q| (gfmd.h's
         gfmd_topo_psd: sum count C (2 pi)^2 / (lx ly) = the variance); window None or "hann"."""

@@ -122,6 +122,7 @@ _PROTOTYPES = {
     "gfmd_topo_get_heights": (_sim, c_double_p),
     "gfmd_topo_fill_missing": (_sim, _i32),
     "gfmd_topo_detrend": (_sim, _i32),
+    "gfmd_topo_resample": (_sim, _i64, _i64),
     "gfmd_topo_psd": (_sim, _i32, _i64, c_double_p, c_double_p, c_int64_p),
     "gfmd_topo_profile_psd": (_sim, _i32, _i64, c_double_p, c_double_p, c_int64_p),
     "gfmd_topo_moments": (_sim, _i32, c_double_p, c_double_p, c_double_p),

@@ -555,6 +555,54 @@ static void spectra_of_a_generated_surface(void **state) {
     free(h);
 }
 
+/* Keys' cubic convolution reproduces a quadratic away from the border; the same grid gives the
+ * samples back; the samples' extent is kept; missing points and bad sizes are refused. */
+static void resampling(void **state) {
+    (void)state;
+    const int64_t nx = 33, ny = 25, mx = 64, my = 48;
+    const double lx = 3.3, ly = 2.5, dx = lx / (double)nx, dy = ly / (double)ny;
+    double *h = ts_alloc((size_t)(nx * ny)), *out = ts_alloc((size_t)(mx * my));
+    for (int64_t y = 0; y < ny; ++y)
+        for (int64_t x = 0; x < nx; ++x) {
+            const double X = (double)x * dx, Y = (double)y * dy;
+            h[y * nx + x] = 0.7 * X * X - 0.4 * X * Y + 0.9 * Y * Y + 0.3 * X - 2.0 * Y + 1.0;
+        }
+    gfmd_topo *t = NULL;
+    assert_int_equal(gfmd_topo_from_heights(nx, ny, lx, ly, h, &t), GFMD_OK);
+    assert_int_equal(gfmd_topo_resample(t, nx, ny), GFMD_OK); /* the same grid: the samples */
+    assert_int_equal(gfmd_topo_get_heights(t, out), GFMD_OK);
+    for (int64_t i = 0; i < nx * ny; ++i) assert_true(fabs(out[i] - h[i]) <= 1e-15 * 8.0);
+    assert_int_equal(gfmd_topo_resample(t, 1, my), GFMD_ERR_INVALID_ARG);
+    assert_int_equal(gfmd_topo_resample(t, mx, my), GFMD_OK);
+    int64_t gx = 0, gy = 0;
+    double glx = 0, gly = 0;
+    assert_int_equal(gfmd_topo_get_grid(t, &gx, &gy, &glx, &gly), GFMD_OK);
+    assert_int_equal(gx, mx);
+    assert_int_equal(gy, my);
+    const double sx = (double)(nx - 1) * dx / (double)(mx - 1), sy = (double)(ny - 1) * dy / (double)(my - 1);
+    assert_true(fabs(glx / ((double)mx * sx) - 1.0) < 1e-14 && fabs(gly / ((double)my * sy) - 1.0) < 1e-14);
+    assert_int_equal(gfmd_topo_get_heights(t, out), GFMD_OK);
+    double worst = 0.0;
+    for (int64_t y = 0; y < my; ++y)
+        for (int64_t x = 0; x < mx; ++x) {
+            const double X = (double)x * sx, Y = (double)y * sy;
+            /* two old spacings from the border: the kernel's support is inside */
+            if (X < 2.0 * dx || Y < 2.0 * dy || X > (double)(nx - 3) * dx || Y > (double)(ny - 3) * dy) continue;
+            const double exact = 0.7 * X * X - 0.4 * X * Y + 0.9 * Y * Y + 0.3 * X - 2.0 * Y + 1.0;
+            worst = fmax(worst, fabs(out[y * mx + x] - exact));
+        }
+    assert_true(worst < 1e-12); /* the quadratic's values ~5: rounding of 16 products */
+    gfmd_topo_destroy(&t);
+    h[40] = NAN;
+    assert_int_equal(gfmd_topo_from_heights(nx, ny, lx, ly, h, &t), GFMD_OK);
+    assert_int_equal(gfmd_topo_resample(t, mx, my), GFMD_ERR_STATE);
+    assert_int_equal(gfmd_topo_get_grid(t, &gx, &gy, NULL, NULL), GFMD_OK);
+    assert_true(gx == nx && gy == ny); /* unchanged */
+    gfmd_topo_destroy(&t);
+    free(h);
+    free(out);
+}
+
 static void null_and_bad_arguments(void **state) {
     (void)state;
     gfmd_topo *t = NULL;
@@ -582,7 +630,8 @@ int main(void) {
         cmocka_unit_test(text_matrix_and_xyz),  cmocka_unit_test(gwyddion_simple_field),
         cmocka_unit_test(iso_surface_data_file), cmocka_unit_test(numpy_arrays),
         cmocka_unit_test(filling_missing_points), cmocka_unit_test(detrending),
-        cmocka_unit_test(spectra_of_a_generated_surface), cmocka_unit_test(null_and_bad_arguments),
+        cmocka_unit_test(spectra_of_a_generated_surface), cmocka_unit_test(resampling),
+        cmocka_unit_test(null_and_bad_arguments),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
