@@ -23,7 +23,9 @@ namespace {
 
 using gfmd::fail;
 using gfmd::capi::args;
+using gfmd::capi::copy_message;
 using gfmd::capi::guarded;
+using gfmd::capi::make_from_file;
 using gfmd::capi::need;
 using gfmd::capi::record;
 using gfmd::capi::status_of;
@@ -72,16 +74,9 @@ const char *gfmd_status_string(int32_t status) {
 }
 
 int32_t gfmd_last_error(const gfmd_sim *s, char *buf, int64_t len) {
-    if (buf == nullptr) return GFMD_ERR_NULL;
-    if (len <= 0) return GFMD_ERR_INVALID_ARG;
-    buf[0] = '\0';  // terminated on every path that can write
-    if (s == nullptr) return GFMD_ERR_NULL;
-    const std::string &m = s->last_error;
-    const std::size_t cap = static_cast<std::size_t>(len) - 1;
-    const std::size_t n = m.size() < cap ? m.size() : cap;
-    std::memcpy(buf, m.data(), n);
-    buf[n] = '\0';
-    return (m.size() > cap) ? GFMD_ERR_TRUNCATED : GFMD_OK;
+    if (buf != nullptr && len > 0) buf[0] = '\0';  // terminated on every path that can write
+    if (buf != nullptr && len > 0 && s == nullptr) return GFMD_ERR_NULL;
+    return copy_message(s != nullptr ? s->last_error : std::string(), buf, len);
 }
 
 int32_t gfmd_last_error_length(const gfmd_sim *s, int64_t *needed) {
@@ -132,22 +127,11 @@ int32_t gfmd_sim_save(const gfmd_sim *s, const char *path) {
 }
 
 int32_t gfmd_sim_load(const char *path, gfmd_sim **out, char *errbuf, int64_t errlen) {
-    // The caller's buffer receives the message of every failure, the early ones included.
-    auto report = [&](const char *msg) {
-        if (errbuf == nullptr || errlen <= 0) return;
-        std::snprintf(errbuf, static_cast<std::size_t>(errlen), "%s", msg);
-    };
-    report("");
-    if (out != nullptr) *out = nullptr;
-    return status_of(
-        [&] {
-            need(out, "out");
-            need(path, "path");
-            auto handle = std::make_unique<gfmd_sim>();
-            handle->sim = gfmd::Simulation::load(path);
-            *out = handle.release();
-        },
-        report);
+    return make_from_file(path, out, errbuf, errlen, [](const char *p) {
+        auto handle = std::make_unique<gfmd_sim>();
+        handle->sim = gfmd::Simulation::load(p);
+        return handle;
+    });
 }
 
 int32_t gfmd_get_grid(const gfmd_sim *s, int64_t *nx, int64_t *ny, double *lx, double *ly) {

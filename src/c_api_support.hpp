@@ -4,6 +4,7 @@
 #define GFMD_SRC_C_API_SUPPORT_HPP
 
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <exception>
 #include <memory>
@@ -56,6 +57,36 @@ int32_t status_of(F &&f, Report &&report) noexcept {
 template <class F>
 int32_t status_of(F &&f) noexcept {
     return status_of(std::forward<F>(f), [](const char *) {});
+}
+
+// A call that makes a handle from a file: *out is NULL unless it succeeds, and the caller's buffer
+// (errbuf, errlen bytes; may be NULL) receives the message of every failure, the early ones
+// included ("" on success).  make(path) returns the new handle's unique_ptr.
+template <class Handle, class Make>
+int32_t make_from_file(const char *path, Handle **out, char *errbuf, int64_t errlen, Make &&make) noexcept {
+    auto report = [&](const char *msg) {
+        if (errbuf != nullptr && errlen > 0) std::snprintf(errbuf, static_cast<std::size_t>(errlen), "%s", msg);
+    };
+    report("");
+    if (out != nullptr) *out = nullptr;
+    return status_of(
+        [&] {
+            if (out == nullptr) fail(GFMD_ERR_NULL, "argument 'out' is NULL");
+            if (path == nullptr) fail(GFMD_ERR_NULL, "argument 'path' is NULL");
+            *out = make(path).release();
+        },
+        report);
+}
+
+// A handle's message m into the caller's buffer (len bytes, always terminated).
+inline int32_t copy_message(const std::string &m, char *buf, int64_t len) noexcept {
+    if (buf == nullptr) return GFMD_ERR_NULL;
+    if (len <= 0) return GFMD_ERR_INVALID_ARG;
+    const std::size_t cap = static_cast<std::size_t>(len) - 1;
+    const std::size_t n = m.size() < cap ? m.size() : cap;
+    std::memcpy(buf, m.data(), n);
+    buf[n] = '\0';
+    return (m.size() > cap) ? GFMD_ERR_TRUNCATED : GFMD_OK;
 }
 
 // Run f on a valid handle; translate exceptions.  The message of the last failure stays in the

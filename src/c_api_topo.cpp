@@ -46,20 +46,11 @@ int32_t changing(gfmd_topo *t, F &&f) noexcept {
 extern "C" {
 
 int32_t gfmd_topo_read(const char *path, int32_t format, double unit, gfmd_topo **out, char *errbuf, int64_t errlen) {
-    auto report = [&](const char *msg) {
-        if (errbuf != nullptr && errlen > 0) std::snprintf(errbuf, static_cast<std::size_t>(errlen), "%s", msg);
-    };
-    report("");
-    if (out != nullptr) *out = nullptr;
-    return status_of(
-        [&] {
-            need(out, "out");
-            need(path, "path");
-            auto handle = std::make_unique<gfmd_topo>();
-            handle->topo = gfmd::read_topography(path, format, unit);
-            *out = handle.release();
-        },
-        report);
+    return gfmd::capi::make_from_file(path, out, errbuf, errlen, [&](const char *p) {
+        auto handle = std::make_unique<gfmd_topo>();
+        handle->topo = gfmd::read_topography(p, format, unit);
+        return handle;
+    });
 }
 
 int32_t gfmd_topo_from_heights(int64_t nx, int64_t ny, double lx, double ly, const double *h, gfmd_topo **out) {
@@ -79,15 +70,9 @@ void gfmd_topo_destroy(gfmd_topo **t) {
 }
 
 int32_t gfmd_topo_last_error(const gfmd_topo *t, char *buf, int64_t len) {
-    if (buf == nullptr) return GFMD_ERR_NULL;
-    if (len <= 0) return GFMD_ERR_INVALID_ARG;
-    buf[0] = '\0';
-    if (t == nullptr) return GFMD_ERR_NULL;
-    const std::string &m = t->last_error;
-    const std::size_t cap = static_cast<std::size_t>(len) - 1, n = m.size() < cap ? m.size() : cap;
-    std::memcpy(buf, m.data(), n);
-    buf[n] = '\0';
-    return m.size() > cap ? GFMD_ERR_TRUNCATED : GFMD_OK;
+    if (buf != nullptr && len > 0) buf[0] = '\0';
+    if (buf != nullptr && len > 0 && t == nullptr) return GFMD_ERR_NULL;
+    return gfmd::capi::copy_message(t != nullptr ? t->last_error : std::string(), buf, len);
 }
 
 int32_t gfmd_topo_get_grid(const gfmd_topo *t, int64_t *nx, int64_t *ny, double *lx, double *ly) {
