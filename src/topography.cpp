@@ -219,7 +219,10 @@ bool is_xyz(const TextTable &t, std::vector<double> &xs, std::vector<double> &ys
         return true;
     };
     if (!grid_of(xs) || !grid_of(ys)) return false;
-    return xs.size() * ys.size() >= static_cast<std::size_t>(t.rows);
+    // a scan's listing: at least half of its grid present (so the grid allocated is bounded by the
+    // file's length: a diagonal line of n points would make an n x n grid)
+    const double grid = static_cast<double>(xs.size()) * static_cast<double>(ys.size());
+    return grid >= static_cast<double>(t.rows) && grid <= 2.0 * static_cast<double>(t.rows);
 }
 
 Topography from_table(const std::string &bytes, int32_t format, double unit) {
@@ -228,7 +231,7 @@ Topography from_table(const std::string &bytes, int32_t format, double unit) {
     std::vector<double> xs, ys;
     const bool xyz = is_xyz(t, xs, ys);
     if (format == GFMD_TOPO_XYZ && !xyz)
-        bad("x y z: expected three columns whose x and y make an evenly spaced grid");
+        bad("x y z: expected three columns whose x and y make an evenly spaced grid, at least half of it listed");
     if (format == GFMD_TOPO_XYZ || (format == GFMD_TOPO_AUTO && xyz)) {
         out.format = GFMD_TOPO_XYZ;
         out.nx = static_cast<int64_t>(xs.size());
@@ -622,6 +625,7 @@ Spectrum transform(const Topography &t, int32_t window, bool profiles) {
     fftw_plan plan = nullptr;
     {
         std::lock_guard<std::mutex> lock(planner_mutex());
+        if (threads_ready()) fftw_plan_with_nthreads(1);  // one thread: FFTW's count is the last plan's
         WisdomAside aside(true);
         auto *out = reinterpret_cast<fftw_complex *>(s.hq.data());
         if (profiles) {

@@ -113,6 +113,16 @@ static void text_matrix_and_xyz(void **state) {
         else assert_true(h[i] == value_at(i % nx, i / nx));
     gfmd_topo_destroy(&t);
 
+    /* points on a diagonal make no scan's grid (an n x n grid of n points): refused as x y z, a
+     * three-column matrix when detected */
+    f = fopen("topo_diagonal.xyz", "w");
+    for (int k = 0; k < 6; ++k) fprintf(f, "%d %d 1\n", k, k);
+    fclose(f);
+    read_fails("topo_diagonal.xyz", GFMD_TOPO_XYZ, GFMD_ERR_FORMAT, "at least half of it listed");
+    t = read_ok("topo_diagonal.xyz", GFMD_TOPO_AUTO, 1.0);
+    expect_grid(t, 3, 6, 3.0, 6.0, GFMD_TOPO_MATRIX, 0, 0);
+    gfmd_topo_destroy(&t);
+
     /* refused: a short row, a word among the data, an infinite value, no numbers at all */
     f = fopen("topo_bad1.txt", "w");
     fprintf(f, "1 2 3\n4 5\n");
