@@ -124,6 +124,28 @@ GFMD_API int32_t gfmd_get_grid(const gfmd_sim *s, int64_t *nx, int64_t *ny, doub
 
 /* ---------------------------------------------------------------- the elastic body */
 
+/**
+ * The body's lateral boundary.  GFMD_BOUNDARY_PERIODIC (the default): the grid is one cell of a
+ * periodic surface.  GFMD_BOUNDARY_FREE: the grid is the whole region of a half-space whose
+ * surface beyond it carries no load -- a measured, non-periodic scan -- solved on the zero-padded
+ * 2nx x 2ny cell with the free-space Boussinesq response of each grid cell, exact for a pressure
+ * constant on each cell; the load sigma0 is a total force sigma0 lx ly on the body, and every
+ * field, A/A0 and the mean gap are the region's.  gfmd_get_mean_displacement() then gives the
+ * level of the surface far from the region (the body's rigid position), gfmd_get_energies() the
+ * elastic energy (1/2) sum p u of the contact pressure and its free-space displacement.
+ * Free boundaries take the half-space under pressure control, with or without adhesion, the
+ * solvers GFMD_SOLVER_CG, FIRE, VERLET and AUTO (which takes CG), and not layers, displacement
+ * control, plasticity, the multilevel start, Persson's theory of the handle (use
+ * gfmd_topo_persson_contact_area()) or a distributed handle: those calls, or this one in those
+ * states, return GFMD_ERR_STATE.  A change of boundary keeps the parameters and the substrate
+ * and puts the body flat, at rest; it needs the memory of the new grid (4x with free
+ * boundaries).  GFMD_ERR_BAD_ENUM for another value.  Checkpoints keep the boundary.
+ */
+GFMD_API int32_t gfmd_set_boundary(gfmd_sim *s, int32_t boundary);
+
+/** The boundary set (GFMD_BOUNDARY_*). */
+GFMD_API int32_t gfmd_get_boundary(const gfmd_sim *s, int32_t *boundary);
+
 /** Contact modulus E* = E/(1 - nu^2) > 0 (default 1).  Keeps the configuration. */
 GFMD_API int32_t gfmd_set_modulus(gfmd_sim *s, double e_star);
 

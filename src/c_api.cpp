@@ -52,7 +52,7 @@ void relax_call(gfmd::Simulation &m, double tol, int64_t max_steps, int64_t *ste
 // The contact patches of a handle's configuration, labels of the whole grid into `labels`.
 gfmd::Patches handle_patches(const gfmd::WholeContact &w, const gfmd::Simulation &m, int32_t connectivity,
                              int64_t *labels) {
-    return gfmd::label_patches(m.grid().nx(), m.grid().ny(), w.in.data(), connectivity, true, labels);
+    return gfmd::label_patches(m.nx(), m.ny(), w.in.data(), connectivity, !m.free(), labels);
 }
 
 }  // namespace
@@ -136,10 +136,28 @@ int32_t gfmd_sim_load(const char *path, gfmd_sim **out, char *errbuf, int64_t er
 
 int32_t gfmd_get_grid(const gfmd_sim *s, int64_t *nx, int64_t *ny, double *lx, double *ly) {
     return guarded(s, args(nx, ny, lx, ly), [&](const gfmd::Simulation &m) {
-        if (nx) *nx = m.grid().nx();
-        if (ny) *ny = m.grid().ny();
-        if (lx) *lx = m.grid().lx();
-        if (ly) *ly = m.grid().ly();
+        if (nx) *nx = m.nx();
+        if (ny) *ny = m.ny();
+        if (lx) *lx = m.lx();
+        if (ly) *ly = m.ly();
+    });
+}
+
+int32_t gfmd_set_boundary(gfmd_sim *s, int32_t boundary) {
+    std::unique_ptr<gfmd::Simulation> replaced;  // freed after guarded() is done with the handle
+    return guarded(s, args(boundary), [&](gfmd::Simulation &m) {
+        if (boundary != GFMD_BOUNDARY_PERIODIC && boundary != GFMD_BOUNDARY_FREE)
+            fail(GFMD_ERR_BAD_ENUM, "unknown boundary " + std::to_string(boundary));
+        if (boundary == (m.free() ? GFMD_BOUNDARY_FREE : GFMD_BOUNDARY_PERIODIC)) return;
+        replaced = m.with_boundary(boundary);
+        std::swap(replaced, s->sim);
+    });
+}
+
+int32_t gfmd_get_boundary(const gfmd_sim *s, int32_t *boundary) {
+    return guarded(s, args(boundary), [&](const gfmd::Simulation &m) {
+        need(boundary, "boundary");
+        *boundary = m.free() ? GFMD_BOUNDARY_FREE : GFMD_BOUNDARY_PERIODIC;
     });
 }
 
@@ -326,8 +344,8 @@ int32_t gfmd_get_energies(const gfmd_sim *s, double *elastic, double *adhesive) 
     return guarded(s, args(elastic, adhesive), [&](const gfmd::Simulation &m) {
         need(elastic, "elastic");
         need(adhesive, "adhesive");
-        *elastic = m.forces().u_el;
-        *adhesive = m.forces().u_ad;
+        *elastic = m.elastic_energy();
+        *adhesive = m.adhesive_energy();
     });
 }
 
@@ -394,7 +412,7 @@ int32_t gfmd_get_contact_patches(const gfmd_sim *s, int32_t connectivity, int64_
         if (labels != nullptr) whole_grid(m, "labels = NULL (count only) or gfmd_mpi_get_local_contact_patches");
         const gfmd::WholeContact w = gfmd::whole_contact(m, false);
         // labels written only once the call cannot fail
-        std::vector<int64_t> out(static_cast<std::size_t>(m.grid().real_size()));
+        std::vector<int64_t> out(static_cast<std::size_t>(m.points()));
         const gfmd::Patches p = handle_patches(w, m, connectivity, out.data());
         if (labels != nullptr) std::copy(out.begin(), out.end(), labels);
         *npatches = p.count;
@@ -410,11 +428,10 @@ int32_t gfmd_get_patch_property(const gfmd_sim *s, int32_t connectivity, int32_t
         gfmd::check_connectivity(connectivity);
         if (property < GFMD_PATCH_POINTS || property > GFMD_PATCH_LOAD)
             fail(GFMD_ERR_BAD_ENUM, "unknown patch property " + std::to_string(property));
-        const gfmd::FftGrid &g = m.grid();
         const gfmd::WholeContact w = gfmd::whole_contact(m, property == GFMD_PATCH_LOAD);
-        std::vector<int64_t> labels(static_cast<std::size_t>(g.real_size()));
+        std::vector<int64_t> labels(static_cast<std::size_t>(m.points()));
         const gfmd::Patches p = handle_patches(w, m, connectivity, labels.data());
-        const std::vector<double> v = gfmd::patch_values(p, property, g.nx(), g.ny(), g.lx(), g.ly(), labels.data(),
+        const std::vector<double> v = gfmd::patch_values(p, property, m.nx(), m.ny(), m.lx(), m.ly(), labels.data(),
                                                          w.pressure.data());
         const std::size_t written = std::min(v.size(), static_cast<std::size_t>(capacity));
         std::copy(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(written), values);
@@ -434,7 +451,7 @@ int32_t gfmd_get_pressure_histogram(const gfmd_sim *s, int64_t nbins, double *ra
         const gfmd::WholeContact w = gfmd::whole_contact(m, true);
         std::vector<double> fr(static_cast<std::size_t>(nbins)), me(static_cast<std::size_t>(nbins));
         double lo = range[0], hi = range[1];
-        gfmd::pressure_histogram(m.grid().real_size(), w.in.data(), w.pressure.data(), nbins, lo, hi, fr.data(),
+        gfmd::pressure_histogram(m.points(), w.in.data(), w.pressure.data(), nbins, lo, hi, fr.data(),
                                  me.data());
         std::copy(fr.begin(), fr.end(), fraction);
         std::copy(me.begin(), me.end(), mean);

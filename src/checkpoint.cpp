@@ -1,12 +1,12 @@
 // Checkpoint and restart: a simulation's complete state in a portable, versioned binary file.
 //
-// Format version 6, every number little-endian whatever the machine:
+// Format version 7, every number little-endian whatever the machine:
 //   "GFMDCKPT"                      8 bytes, magic
-//   u32 version = 6, u32 flags = 0 (no flags are defined: others are refused)
-//   i64 nx, ny; f64 lx, ly
+//   u32 version = 7, u32 flags = 0 (no flags are defined: others are refused)
+//   i64 nx, ny; f64 lx, ly             (the grid solved on: with free boundaries the padded cell)
 //   the parameters in the order of GFMD_PARAMS_LIST (params.hpp): f64 e_star; i32 kind;
 //     f64 width, nu, sigma0, gamma0, rho, dt_user, eta_user; i32 solver; i32 control; f64 mean_z;
-//     f64 hardness
+//     f64 hardness; i32 boundary
 //   i32 threads (informative; not restored), planner
 //   i32 active                          (the solver that steps: AUTO's choice, or the solver set)
 //   u32 count, f64 solver_state[count]  (the solver's adaptive state: FIRE's dt, alpha, count)
@@ -18,7 +18,7 @@
 //   u64 FNV-1a hash of the header (every byte before the fields) and then of the row hashes
 // The row hashes let every rank of a distributed grid check and hash its own rows: the table and
 // the file do not depend on how many ranks wrote it, and any number of ranks (or the serial
-// library) reads it.  Version 5 had no hardness, m and plastic volume.  Version 4 (read, not written) had no active solver and no row hashes: its
+// library) reads it.  Version 6 had no boundary (periodic).  Version 5 had no hardness, m and plastic volume.  Version 4 (read, not written) had no active solver and no row hashes: its
 // last 8 bytes hash every byte before them; with solver = AUTO, k > 0 says AUTO had chosen CG
 // (its only choices then were CG and FIRE).  Version 3 also had no k and no solver fields.  Version 2 had no control and
 // mean_z (pressure control).  Version 1 also had f64 fire_dt, fire_alpha; i64 fire_positive in
@@ -46,7 +46,7 @@ namespace gfmd {
 namespace {
 
 constexpr char kMagic[8] = {'G', 'F', 'M', 'D', 'C', 'K', 'P', 'T'};
-constexpr uint32_t kVersion = 6;
+constexpr uint32_t kVersion = 7;
 constexpr uint32_t kMaxSolverFields = 4;  // grid-sized fields of a solver's state; more is a corrupted file
 constexpr uint32_t kMaxSolverState = 64;  // numbers of a solver's state; more is a corrupted file
 constexpr std::size_t kMaxHeader = 4096;  // no header of any version is longer
@@ -195,6 +195,10 @@ Header parse_header(const unsigned char *b, std::size_t n, const std::string &p)
             !(hd.plastic_volume >= 0.0) || !std::isfinite(hd.plastic_volume))
             fail(GFMD_ERR_FORMAT, "'" + p + "' holds an impossible plastic state: corrupted");
     }
+    const int32_t bound = hd.params.boundary;
+    if ((bound != GFMD_BOUNDARY_PERIODIC && bound != GFMD_BOUNDARY_FREE) ||
+        (bound == GFMD_BOUNDARY_FREE && (hd.nx % 2 != 0 || hd.ny % 2 != 0)))
+        fail(GFMD_ERR_FORMAT, "'" + p + "' holds an impossible boundary: corrupted");
     hd.length = r.position();
     return hd;
 }
@@ -379,7 +383,10 @@ std::unique_ptr<Simulation> Simulation::load(const char *path, const Distributio
 #ifdef GFMD_MPI
     else check_slab_memory(*dist, nx, ny);
 #endif
-    auto s = std::make_unique<Simulation>(nx, ny, hd.lx, hd.ly, 0, hd.planner, dist);
+    // free boundaries: the file holds the padded cell, twice the region each way
+    const int64_t half = (hd.params.boundary == GFMD_BOUNDARY_FREE) ? 2 : 1;
+    auto s = std::make_unique<Simulation>(nx / half, ny / half, hd.lx / static_cast<double>(half),
+                                          hd.ly / static_cast<double>(half), 0, hd.planner, dist, hd.params.boundary);
     const FftGrid &g = s->grid_;
     const int64_t rows = g.local_mode_rows(), y0 = g.first_row();
     Fields &fl = s->fields_;
@@ -453,7 +460,7 @@ std::unique_ptr<Simulation> Simulation::load(const char *path, const Distributio
         s->set_modulus(params.e_star);
         s->set_green(params.kind, params.width);
         s->set_adhesion(params.gamma0, params.rho);
-        s->set_pressure(params.sigma0);
+        s->set_pressure(params.sigma0 / s->load_fraction());
         if (params.control == kDisplacementControl) {
             // The saved z already holds its mean: adopted as it is (a new projection could move it
             // by a rounding and the resumed run would differ in the last bits).

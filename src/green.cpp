@@ -111,6 +111,60 @@ void validate_poisson(double nu) {
         fail(GFMD_ERR_INVALID_ARG, "Poisson's ratio must be finite and in (-1, 0.5], got " + std::to_string(nu));
 }
 
+namespace {
+// The integral of 1/r over [0, x] x [0, y] (signed): x asinh(y/|x|) + y asinh(x/|y|).  The
+// logarithms of the textbook form, x ln(y + r) + y ln(x + r), differ from it by terms of x or y
+// alone, which cancel in a rectangle's four corners; asinh has neither their cancellation for
+// negative y nor their singularity on the axes.
+double inverse_r_integral(double x, double y) {
+    double s = 0.0;
+    if (x != 0.0) s += x * std::asinh(y / std::fabs(x));
+    if (y != 0.0) s += y * std::asinh(x / std::fabs(y));
+    return s;
+}
+}  // namespace
+
+double boussinesq_cell(double x, double y, double ax, double ay, double e_star) {
+    const double x0 = x - 0.5 * ax, x1 = x + 0.5 * ax, y0 = y - 0.5 * ay, y1 = y + 0.5 * ay;
+    const double s = inverse_r_integral(x1, y1) - inverse_r_integral(x0, y1) - inverse_r_integral(x1, y0) +
+                     inverse_r_integral(x0, y0);
+    return s / (kPi * e_star);
+}
+
+Body make_free_body(const FftGrid &grid, double e_star) {
+    const int64_t nx = grid.nx(), ny = grid.ny(), nxh = grid.nxh();
+    const double ax = grid.lx() / static_cast<double>(nx), ay = grid.ly() / static_cast<double>(ny);
+    RealBuffer kernel(static_cast<std::size_t>(grid.local_points()));
+    ComplexBuffer modes(static_cast<std::size_t>(grid.local_mode_rows() * nxh));
+    // offsets in [-n/2, n/2): the one at -n/2 stands for both signs (only offsets below n/2 reach
+    // from one point of the region to another)
+    const auto offset = [](int64_t i, int64_t n) { return static_cast<double>(i < n / 2 ? i : i - n); };
+    for (int64_t y = 0; y < ny; ++y)
+        for (int64_t x = 0; x < nx; ++x)
+            kernel[static_cast<std::size_t>(y * nx + x)] =
+                boussinesq_cell(offset(x, nx) * ax, offset(y, ny) * ay, ax, ay, e_star);
+    grid.forward(kernel.data(), modes.data());
+    Body b;
+    b.stiffness = RealBuffer(modes.size());
+    b.k_min = std::numeric_limits<double>::infinity();
+    for (std::size_t c = 0; c < modes.size(); ++c) {
+        const double k = modes[c].real();  // the kernel is even in x and y: K(q) is real
+        if (!(k > 0.0) || !std::isfinite(k))
+            fail(GFMD_ERR_INTERNAL, "the free-boundary compliance is not positive at one wave vector");
+        if (c == 0) {
+            b.compliance0 = k;
+            b.stiffness[c] = 0.0;  // the uniform mode: the load on the cell moves the body as a whole
+            continue;
+        }
+        b.stiffness[c] = 1.0 / k;
+        b.k_min = std::min(b.k_min, b.stiffness[c]);
+        b.k_max = std::max(b.k_max, b.stiffness[c]);
+    }
+    if (!std::isfinite(b.k_max) || !(b.k_min > 0.0))
+        fail(GFMD_ERR_RANGE, "the free-boundary stiffness overflows: E* is too large for this grid");
+    return b;
+}
+
 Body make_body(const FftGrid &grid, int32_t kind, double width, double e_star, double nu) {
     Body b;
     b.stiffness = RealBuffer(static_cast<std::size_t>(grid.local_mode_rows() * grid.nxh()));

@@ -19,8 +19,25 @@ void validate_poisson(double nu);
 struct Body {
     RealBuffer stiffness;
     double k_min = 0.0, k_max = 0.0;
+    // Free boundaries only: the uniform mode's compliance K(0) of the padded cell (below), 0 otherwise
+    double compliance0 = 0.0;
 };
 Body make_body(const FftGrid &grid, int32_t kind, double width, double e_star, double nu);
+
+// The half-space with free boundaries on the zero-padded cell `grid` (twice the region each way):
+// the stiffness 1/K(q) of the free-space Boussinesq response to a uniform pressure on one grid
+// cell (Love's rectangle, exact for piecewise-constant pressure), its periodic images cut at half
+// the padded cell.  Any pressure inside the region then sees exactly the free-space response: the
+// region is at most half the padded cell from any of its points, so no image reaches it.  K(q) > 0
+// for every q (checked: GFMD_ERR_INTERNAL otherwise); the uniform mode keeps stiffness 0, so that
+// the load on the padded cell moves the body as a whole, and its K(0) is kept in compliance0.
+// Distributed grids are refused by the caller.
+Body make_free_body(const FftGrid &grid, double e_star);
+
+// The displacement, at offset (x, y) from a grid cell's centre, of unit pressure on that cell of
+// sides ax x ay, on a half-space of contact modulus e_star: (1 / (pi E*)) times the integral of 1/r
+// over the cell.
+double boussinesq_cell(double x, double y, double ax, double ay, double e_star);
 
 // |q| of the grid's corner mode (the shortest wave, pi sqrt(2)/a on a square grid of spacing a).
 double shortest_wave_q(const FftGrid &grid);

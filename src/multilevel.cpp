@@ -65,6 +65,7 @@ std::unique_ptr<Simulation> Simulation::coarsened() {
 bool Simulation::relax_multilevel(double tol, int64_t max_steps, int levels, int64_t &steps_taken,
                                   int64_t &coarse_steps) {
     if (levels < 1) fail(GFMD_ERR_INVALID_ARG, "levels must be >= 1, got " + std::to_string(levels));
+    if (levels > 1) require_periodic("the multilevel start (levels > 1)");
     if (levels > 1 && plastic_)
         fail(GFMD_ERR_STATE, "the multilevel start does not take a hardness (a coarse grid cannot yield as the fine one); "
                              "use gfmd_relax or levels = 1");

@@ -30,7 +30,8 @@ constexpr int32_t kPressureControl = 0, kDisplacementControl = 1;
     X(int32_t, solver, GFMD_SOLVER_AUTO, 1)      /* GFMD_SOLVER_* */                              \
     X(int32_t, control, kPressureControl, 3)     /* what the load prescribes */                   \
     X(double, mean_z, 0.0, 3)                    /* displacement control: the mean of z */        \
-    X(double, hardness, std::numeric_limits<double>::infinity(), 6) /* plasticity: H, inf = none */
+    X(double, hardness, std::numeric_limits<double>::infinity(), 6) /* plasticity: H, inf = none */ \
+    X(int32_t, boundary, GFMD_BOUNDARY_PERIODIC, 7) /* GFMD_BOUNDARY_* */
 
 struct Params {
 #define GFMD_PARAM_MEMBER(type, name, value, since) type name = value;

@@ -150,7 +150,8 @@ void pressure_histogram(int64_t n, const unsigned char *in, const double *pressu
 
 WholeContact whole_contact(const Simulation &m, bool with_pressure) {
     const FftGrid &g = m.grid();
-    const auto n = static_cast<std::size_t>(g.real_size()), local = static_cast<std::size_t>(g.local_points());
+    // the user's grid (free boundaries: the region, on one rank)
+    const auto n = static_cast<std::size_t>(m.points()), local = static_cast<std::size_t>(g.local_points());
     WholeContact w;
     std::vector<unsigned char> in;
     std::vector<double> p;

@@ -27,11 +27,35 @@ void require_finite(double x, const char *name) {
     if (!std::isfinite(x)) fail(GFMD_ERR_INVALID_ARG, std::string(name) + " must be finite, got " + num(x));
 }
 
-// nx, after checking the grid and that it fits in memory: nothing is allocated or planned before.
-int64_t admitted(int64_t nx, int64_t ny, double lx, double ly, const Distribution *dist) {
+// The grid's points a side for the user's n: n, or 2n on the padded cell of free boundaries.
+int64_t solved(int64_t n, int32_t boundary) { return boundary == GFMD_BOUNDARY_FREE ? 2 * n : n; }
+
+// nx of the grid solved on, after checking the grid, the boundary and that it fits in memory:
+// nothing is allocated or planned before.
+int64_t admitted(int64_t nx, int64_t ny, double lx, double ly, const Distribution *dist, int32_t boundary) {
     validate_grid(nx, ny, lx, ly);
-    if (dist == nullptr) check_memory(nx, ny);
-    return nx;
+    if (boundary != GFMD_BOUNDARY_PERIODIC && boundary != GFMD_BOUNDARY_FREE)
+        fail(GFMD_ERR_BAD_ENUM, "unknown boundary " + std::to_string(boundary));
+    if (boundary == GFMD_BOUNDARY_FREE) {
+        if (dist != nullptr)
+            fail(GFMD_ERR_STATE, "free boundaries on a handle distributed over ranks are not supported");
+        if (nx > INT64_MAX / 4 / ny) fail(GFMD_ERR_INVALID_ARG, "the padded grid 2nx x 2ny overflows int64_t");
+        validate_grid(2 * nx, 2 * ny, 2.0 * lx, 2.0 * ly);
+    }
+    if (dist == nullptr) check_memory(solved(nx, boundary), solved(ny, boundary));
+    return solved(nx, boundary);
+}
+
+Params with_boundary_param(int32_t boundary) {
+    Params p;
+    p.boundary = boundary;
+    return p;
+}
+
+// The body of parameters p on the grid solved on.
+Body body_of(const FftGrid &grid, const Params &p) {
+    if (p.boundary == GFMD_BOUNDARY_FREE) return make_free_body(grid, p.e_star);
+    return make_body(grid, p.kind, p.width, p.e_star, p.nu);
 }
 
 RealBuffer copy_of(const RealBuffer &from) {
@@ -51,6 +75,17 @@ bool takes_plasticity(int32_t solver) {
     return solver == GFMD_SOLVER_FIRE || solver == GFMD_SOLVER_VERLET || solver == GFMD_SOLVER_AUTO;
 }
 
+// The solvers that step on the padded cell of free boundaries: those that see the body only
+// through its mode stiffness (the mass-weighted family's masses and the Newton method's sheet
+// model assume a periodic body's spectrum).
+constexpr const char *kFreeSolvers =
+    "with free boundaries the solver must be GFMD_SOLVER_CG, GFMD_SOLVER_FIRE, GFMD_SOLVER_VERLET or "
+    "GFMD_SOLVER_AUTO (which takes CG)";
+bool takes_free_boundaries(int32_t solver) {
+    return solver == GFMD_SOLVER_CG || solver == GFMD_SOLVER_FIRE || solver == GFMD_SOLVER_VERLET ||
+           solver == GFMD_SOLVER_AUTO;
+}
+
 // GFMD_ERR_STATE if the solver set (or kept) by the caller would run p and cannot: GFMD_SOLVER_CG,
 // or GFMD_SOLVER_NEWTON (newton.hpp: a thin sheet without adhesion under pressure control, on a
 // grid its cycle takes).
@@ -62,6 +97,8 @@ void require_solver_takes(const FftGrid &grid, const Params &p, int32_t solver) 
     if (std::isfinite(p.hardness) && !takes_plasticity(solver))
         fail(GFMD_ERR_STATE, "with a hardness (plasticity) the solver must be GFMD_SOLVER_FIRE, GFMD_SOLVER_VERLET or "
                              "GFMD_SOLVER_AUTO (which takes FIRE); switch the hardness off (+infinity) first");
+    if (p.boundary == GFMD_BOUNDARY_FREE && !takes_free_boundaries(solver))
+        fail(GFMD_ERR_STATE, kFreeSolvers);
     if (solver == GFMD_SOLVER_NEWTON) {
         const std::string why = newton_refusal(grid, p);
         if (!why.empty()) fail(GFMD_ERR_STATE, why + "; choose another solver or GFMD_SOLVER_AUTO");
@@ -70,25 +107,35 @@ void require_solver_takes(const FftGrid &grid, const Params &p, int32_t solver) 
 }  // namespace
 
 Simulation::Simulation(int64_t nx, int64_t ny, double lx, double ly, int threads, int32_t planner,
-                       const Distribution *dist)
-    : grid_(admitted(nx, ny, lx, ly, dist), ny, lx, ly, threads, planner, dist),
-      body_(make_body(grid_, params_.kind, params_.width, params_.e_star, params_.nu)),
+                       const Distribution *dist, int32_t boundary)
+    : grid_(admitted(nx, ny, lx, ly, dist, boundary), solved(ny, boundary), solved(1, boundary) * lx,
+            solved(1, boundary) * ly, threads, planner, dist),
+      params_(with_boundary_param(boundary)),
+      body_(body_of(grid_, params_)),
       dynamics_(dynamics_for(params_, body_)),
       fields_(grid_),
       undo_(grid_),
+      rx_(nx),
+      ry_(ny),
       active_solver_(resolve_solver(params_.solver)),
       solver_(make_solver(active_solver_, grid_, dynamics_)) {
+    if (free()) {
+        RealBuffer flat(static_cast<std::size_t>(points()));
+        std::fill(flat.data(), flat.data() + flat.size(), 0.0);
+        fields_.h = padded_substrate(flat.data(), params_.rho);
+    }
     fields_.put_flat_at_rest(grid_);
     refresh_forces();
 }
 
 std::unique_ptr<Simulation> Simulation::clone() const {
-    auto c = std::make_unique<Simulation>(grid_.nx(), grid_.ny(), grid_.lx(), grid_.ly(), grid_.threads(),
-                                          grid_.planner(), grid_.distribution());
+    auto c = std::make_unique<Simulation>(nx(), ny(), lx(), ly(), grid_.threads(), grid_.planner(),
+                                          grid_.distribution(), params_.boundary);
     c->params_ = params_;
     c->body_.stiffness = copy_of(body_.stiffness);
     c->body_.k_min = body_.k_min;
     c->body_.k_max = body_.k_max;
+    c->body_.compliance0 = body_.compliance0;
     c->dynamics_ = dynamics_;
     c->persson_v_ = persson_v_;
     c->substrate_q_ = substrate_q_;
@@ -144,7 +191,7 @@ void Simulation::change(const char *what, Apply &&apply, Undo &&undo) {
 // New Green's function, modulus or Poisson ratio: a new body, kept only if the state stays finite.
 void Simulation::change_body(const char *what, const Params &p) {
     require_solver_takes(grid_, p, params_.solver);
-    Body b = make_body(grid_, p.kind, p.width, p.e_star, p.nu);
+    Body b = body_of(grid_, p);
     const Params old_params = params_;
     const Dynamics old_dynamics = dynamics_;
     change(
@@ -179,6 +226,9 @@ void Simulation::set_green(int32_t kind, double width) {
         require_finite(width, "layer width");
         if (width <= 0.0) fail(GFMD_ERR_INVALID_ARG, "layer width must be > 0, got " + num(width));
     }
+    if (kind != GFMD_GREEN_HALFSPACE && free())
+        fail(GFMD_ERR_STATE, "free boundaries are for the half-space only (a layer's free-space Green's function is "
+                             "not implemented): set GFMD_BOUNDARY_PERIODIC first");
     if (kind == GFMD_GREEN_LAYER_BONDED && std::isnan(params_.nu))
         fail(GFMD_ERR_STATE, "the bonded layer needs Poisson's ratio: call gfmd_set_poisson first");
     Params p = params_;
@@ -231,25 +281,65 @@ void Simulation::change_substrate(RealBuffer &&h) {
 }
 
 void Simulation::set_heights(const double *h) {
-    const int64_t n = grid_.local_points();
+    const int64_t n = free() ? points() : grid_.local_points();
     grid_.on_all_ranks([&] {
         for (int64_t i = 0; i < n; ++i)
             if (!std::isfinite(h[i]) || std::fabs(h[i]) > kMaxHeight)
                 fail(GFMD_ERR_INVALID_ARG, "height " + std::to_string(i + grid_.first_row() * grid_.nx()) + " = " +
                                                num(h[i]) + " is not finite or exceeds 1e100 in magnitude");
     });
+    if (free()) return change_substrate(padded_substrate(h, params_.rho));
     RealBuffer nh;  // the new substrate, 8 B/pt for this call, allocated on every rank or none
     grid_.on_all_ranks([&] { nh = RealBuffer(static_cast<std::size_t>(n)); });
     std::copy(h, h + n, nh.data());
     change_substrate(std::move(nh));
 }
 
+// With free boundaries the surface is drawn on the padded cell, a periodic surface twice the
+// region's size each way, and the region keeps its part, its highest point moved to zero: a
+// non-periodic patch of a larger surface, as a measurement is.
 void Simulation::generate_selfaffine(const SelfAffineParams &p) {
     validate_selfaffine(grid_, p);
     RealBuffer nh;  // the new substrate, 8 B/pt for this call, allocated on every rank or none
     grid_.on_all_ranks([&] { nh = RealBuffer(static_cast<std::size_t>(grid_.local_points())); });
     gfmd::generate_selfaffine(grid_, p, fields_.work.data(), nh.data());
+    if (free()) {
+        RealBuffer region(static_cast<std::size_t>(points()));
+        crop(nh.data(), region.data());
+        const double top = *std::max_element(region.data(), region.data() + region.size());
+        for (std::size_t i = 0; i < region.size(); ++i) region[i] -= top;
+        return change_substrate(padded_substrate(region.data(), params_.rho));
+    }
     change_substrate(std::move(nh));
+}
+
+void Simulation::crop(const double *field, double *out) const {
+    for (int64_t y = 0; y < ry_; ++y) std::copy(field + at(0, y), field + at(0, y) + rx_, out + y * rx_);
+}
+
+// The surface of a body pressed onto the region stays above the region's lowest point but for the
+// discretization (the maximum principle of the Boussinesq potential: the displacement outside the
+// loaded set is below its largest value on it): a depth of twice the region's height range, plus
+// its size and 1000 adhesive ranges (the adhesive stress there is exp(-1000) = 0), clears it.
+RealBuffer Simulation::padded_substrate(const double *h, double rho) const {
+    RealBuffer nh(static_cast<std::size_t>(grid_.local_points()));
+    double lo = h[0], hi = h[0];
+    for (int64_t i = 0; i < points(); ++i) {
+        lo = std::min(lo, h[i]);
+        hi = std::max(hi, h[i]);
+    }
+    const double depth = 2.0 * (hi - lo) + lx() + ly() + 1000.0 * rho;
+    const double pad = lo - depth;
+    if (!std::isfinite(pad) || std::fabs(pad) > kMaxHeight)
+        fail(GFMD_ERR_RANGE, "the padding below this substrate exceeds 1e100 in magnitude");
+    std::fill(nh.data(), nh.data() + nh.size(), pad);
+    for (int64_t y = 0; y < ry_; ++y) std::copy(h + y * rx_, h + (y + 1) * rx_, nh.data() + at(0, y));
+    return nh;
+}
+
+void Simulation::require_periodic(const char *what) const {
+    if (free())
+        fail(GFMD_ERR_STATE, std::string(what) + " is not supported with free boundaries: set GFMD_BOUNDARY_PERIODIC first");
 }
 
 void Simulation::set_pressure(double sigma0) {
@@ -259,7 +349,7 @@ void Simulation::set_pressure(double sigma0) {
     change(
         "sigma0",
         [&] {
-            params_.sigma0 = sigma0;
+            params_.sigma0 = sigma0 * load_fraction();  // exact: a power of 2
             params_.control = kPressureControl;
         },
         [&] { params_ = old; });    commit_plastic_step();
@@ -278,6 +368,7 @@ void Simulation::apply_control() {
 }
 
 void Simulation::set_mean_displacement(double d) {
+    require_periodic("displacement control");
     check_mean_displacement(d, fields_.h.data());
     Params asked = params_;
     asked.control = kDisplacementControl;
@@ -297,7 +388,18 @@ void Simulation::set_mean_displacement(double d) {
         });    commit_plastic_step();
 }
 
-double Simulation::mean_displacement() const { return grid_.mean(fields_.z.data()); }
+double Simulation::mean_displacement() const {
+    const double mean = grid_.mean(fields_.z.data());
+    return free() ? mean - params_.sigma0 * body_.compliance0 : mean;
+}
+
+double Simulation::elastic_energy() const {
+    if (!free()) return forces_.u_el;
+    // the uniform mode of the padded cell's pressure, sigma0 (the padded cell's) at every point,
+    // holds (1/2) a^2 K(0) sigma0^2 N of the energy once the contacts carry the load
+    const double s = params_.sigma0;
+    return forces_.u_el + 0.5 * grid_.area_per_point() * body_.compliance0 * s * s * static_cast<double>(grid_.real_size());
+}
 
 void Simulation::set_adhesion(double gamma0, double rho) {
     require_finite(gamma0, "gamma0");
@@ -313,16 +415,30 @@ void Simulation::set_adhesion(double gamma0, double rho) {
     require_solver_takes(grid_, asked, params_.solver);
     const Params old = params_;
     const Dynamics old_dynamics = dynamics_;
+    // free boundaries: the padding sinks further if the new range needs it (never rises: the
+    // surface stays above it)
+    RealBuffer deeper;
+    if (free()) {
+        RealBuffer region(static_cast<std::size_t>(points()));
+        crop(fields_.h.data(), region.data());
+        deeper = padded_substrate(region.data(), rho);
+        if (!(deeper[at(rx_, ry_)] < fields_.h[at(rx_, ry_)])) deeper = RealBuffer();
+    }
+    const auto swap_padding = [&] {
+        if (deeper.size() > 0) std::swap(fields_.h, deeper);
+    };
     change(
         "this adhesion",
         [&] {
             params_.gamma0 = gamma0;
             params_.rho = rho;
             dynamics_ = dynamics_for(params_, body_);
+            swap_padding();
         },
         [&] {
             params_ = old;
             dynamics_ = old_dynamics;
+            swap_padding();
         });
 }
 
@@ -330,6 +446,7 @@ void Simulation::set_hardness(double hardness) {
     if (!(hardness > 0.0))
         fail(GFMD_ERR_INVALID_ARG, "the hardness must be > 0 (+infinity: no plasticity), got " + num(hardness));
     const bool on = std::isfinite(hardness);
+    if (on) require_periodic("plasticity");
     if (on && grid_.ranks() > 1)
         fail(GFMD_ERR_STATE, "plasticity on a handle distributed over several ranks is not supported");
     if (on && params_.gamma0 > 0.0)
@@ -398,6 +515,8 @@ int32_t Simulation::resolve_solver(int32_t requested) const {
 
 ChoiceFeatures Simulation::choice_features() const {
     ChoiceFeatures f;
+    f.free_boundary = free();
+    if (f.free_boundary) return f;  // the rule reads nothing else (solver_choice.cpp)
     f.body = params_.kind;
     f.adhesive = params_.gamma0 > 0.0;
     f.plastic = std::isfinite(params_.hardness);
@@ -469,6 +588,39 @@ void Simulation::set_solver(int32_t solver) {
     params_.solver = solver;
 }
 
+std::unique_ptr<Simulation> Simulation::with_boundary(int32_t boundary) const {
+    if (boundary == GFMD_BOUNDARY_FREE) {
+        if (grid_.distribution() != nullptr)
+            fail(GFMD_ERR_STATE, "free boundaries on a handle distributed over ranks are not supported");
+        if (params_.kind != GFMD_GREEN_HALFSPACE)
+            fail(GFMD_ERR_STATE, "free boundaries are for the half-space only (a layer's free-space Green's function "
+                                 "is not implemented): set GFMD_GREEN_HALFSPACE first");
+        if (params_.control == kDisplacementControl)
+            fail(GFMD_ERR_STATE, "free boundaries take a prescribed pressure only: set a pressure first");
+        if (std::isfinite(params_.hardness))
+            fail(GFMD_ERR_STATE, "plasticity is not supported with free boundaries: switch the hardness off first");
+        if (!takes_free_boundaries(params_.solver)) fail(GFMD_ERR_STATE, kFreeSolvers);
+    }
+    std::vector<double> h(static_cast<std::size_t>(points()));
+    heights(h.data());
+    auto s = std::make_unique<Simulation>(nx(), ny(), lx(), ly(), grid_.threads(), grid_.planner(),
+                                          grid_.distribution(), boundary);
+    if (!std::isnan(params_.nu)) s->set_poisson(params_.nu);
+    s->set_modulus(params_.e_star);
+    s->set_green(params_.kind, params_.width);
+    s->set_adhesion(params_.gamma0, params_.rho);
+    s->set_timestep(params_.dt_user);
+    s->set_damping(params_.eta_user);
+    s->set_solver(params_.solver);
+    if (std::isfinite(params_.hardness)) s->set_hardness(params_.hardness);
+    s->set_heights(h.data());
+    if (params_.control == kDisplacementControl)
+        s->set_mean_displacement(params_.mean_z);
+    else
+        s->set_pressure(params_.sigma0 / load_fraction());
+    return s;
+}
+
 void Simulation::set_threads(int threads) { grid_.replan(threads, grid_.planner()); }
 
 void Simulation::set_planner(int32_t planner) { grid_.replan(grid_.threads(), planner); }
@@ -530,21 +682,55 @@ bool Simulation::relax_from(double tol, int64_t max_steps, int64_t &steps_taken,
     return true;
 }
 
-double Simulation::contact_area() const { return gfmd::contact_area(grid_, forces_); }
-double Simulation::mean_gap() const { return gfmd::mean_gap(grid_, fields_); }
-void Simulation::heights(double *out) const { std::copy(fields_.h.data(), fields_.h.data() + fields_.h.size(), out); }
-void Simulation::gap(double *out) const { gfmd::gap(fields_, out); }
-void Simulation::surface(double *out) const { std::copy(fields_.z.data(), fields_.z.data() + fields_.z.size(), out); }
+// With free boundaries the observables are the region's: the padded cell's contacts all lie in
+// it (its padding is far below the surface), its fields are cropped.
+double Simulation::contact_area() const {
+    return free() ? static_cast<double>(forces_.contacts) / static_cast<double>(points())
+                  : gfmd::contact_area(grid_, forces_);
+}
+double Simulation::mean_gap() const {
+    if (!free()) return gfmd::mean_gap(grid_, fields_);
+    double sum = 0.0;
+    for (int64_t y = 0; y < ry_; ++y)
+        for (int64_t x = 0; x < rx_; ++x) sum += fields_.z[at(x, y)] - fields_.h[at(x, y)];
+    return sum / static_cast<double>(points());
+}
+void Simulation::heights(double *out) const {
+    if (free()) return crop(fields_.h.data(), out);
+    std::copy(fields_.h.data(), fields_.h.data() + fields_.h.size(), out);
+}
+void Simulation::gap(double *out) const {
+    if (!free()) return gfmd::gap(fields_, out);
+    for (int64_t y = 0; y < ry_; ++y)
+        for (int64_t x = 0; x < rx_; ++x) out[y * rx_ + x] = fields_.z[at(x, y)] - fields_.h[at(x, y)];
+}
+void Simulation::surface(double *out) const {
+    if (free()) return crop(fields_.z.data(), out);
+    std::copy(fields_.z.data(), fields_.z.data() + fields_.z.size(), out);
+}
 void Simulation::pressure(double *out) const {
+    if (free()) {  // no hardness here (refused with free boundaries)
+        std::vector<double> all(fields_.z.size());
+        gfmd::pressure(params_, fields_, all.data());
+        return crop(all.data(), out);
+    }
     gfmd::pressure(params_, fields_, out);
     if (!plastic_ || plastic_->yielding_points == 0) return;
     for (std::size_t i = 0; i < fields_.z.size(); ++i)
         if (plastic_->yielding[i] != 0) out[i] = params_.hardness;  // the yielding substrate's pressure
 }
 void Simulation::contact_set(unsigned char *out) const {
+    if (free()) {
+        for (int64_t y = 0; y < ry_; ++y)
+            for (int64_t x = 0; x < rx_; ++x) out[y * rx_ + x] = fields_.z[at(x, y)] <= fields_.h[at(x, y)] ? 1 : 0;
+        return;
+    }
     for (std::size_t i = 0; i < fields_.z.size(); ++i) out[i] = fields_.z[i] <= fields_.h[i] ? 1 : 0;
 }
 double Simulation::persson_variance() const {
+    if (free())
+        fail(GFMD_ERR_STATE, "Persson's theory of a simulation is that of its periodic cell: with free boundaries "
+                             "evaluate it from the scan's spectrum (gfmd_topo_persson_contact_area)");
     if (!persson_v_) persson_v_ = gfmd::persson_variance(grid_, body_, fields_, step_substrate());
     return *persson_v_;
 }

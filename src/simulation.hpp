@@ -28,8 +28,11 @@ public:
     // (before allocating) when the grid does not fit in the memory available.
     // With a distribution (libgfmd_mpi) the grid is split over its ranks and construction is
     // collective; the caller has checked the memory of this rank's slab.
+    // boundary GFMD_BOUNDARY_FREE: the nx x ny grid is the whole region of a half-space whose
+    // surface beyond it carries no load, solved on the zero-padded 2nx x 2ny cell (grid());
+    // GFMD_ERR_STATE with a distribution.
     Simulation(int64_t nx, int64_t ny, double lx, double ly, int threads = 0, int32_t planner = GFMD_PLANNER_MEASURE,
-               const Distribution *dist = nullptr);
+               const Distribution *dist = nullptr, int32_t boundary = GFMD_BOUNDARY_PERIODIC);
     // Deep copy: an independent simulation in the same state (parameters, fields, solver state),
     // planned once with this one's threads and planner.
     std::unique_ptr<Simulation> clone() const;
@@ -39,7 +42,23 @@ public:
     // Collective with a distribution (libgfmd_mpi): every rank reads its own rows.
     static std::unique_ptr<Simulation> load(const char *path, const Distribution *dist = nullptr);
 
+    // The grid the body is solved on: the user's grid, or with free boundaries the padded cell.
     const FftGrid &grid() const { return grid_; }
+    // The user's grid (the region with free boundaries): every field a caller passes or receives.
+    int64_t nx() const { return rx_; }
+    int64_t ny() const { return ry_; }
+    double lx() const { return free() ? 0.5 * grid_.lx() : grid_.lx(); }
+    double ly() const { return free() ? 0.5 * grid_.ly() : grid_.ly(); }
+    int64_t points() const { return rx_ * ry_; }
+    bool free() const { return params_.boundary == GFMD_BOUNDARY_FREE; }
+    // The same body, parameters and substrate with this boundary, flat at rest (a new grid: the
+    // padded cell or the region's).  Throws as the setters for what the boundary does not take.
+    std::unique_ptr<Simulation> with_boundary(int32_t boundary) const;
+    // U_el and U_ad of the configuration.  With free boundaries U_el is (1/2) sum p u of the
+    // region's pressure and its free-space displacement: the padded cell's energy plus the part its
+    // uniform mode holds at force balance.
+    double elastic_energy() const;
+    double adhesive_energy() const { return forces_.u_ad; }
 
     // Setters check everything before changing anything (a failed call changes nothing).  Those
     // that change the energy landscape or the dynamics restart the solver.
@@ -99,8 +118,10 @@ public:
     double persson_variance() const;
     double persson_contact_area(double sigma0) const;
     double persson_load(double rel_area) const;
-    double mean_displacement() const;  // mean(z)
-    double mean_pressure() const { return forces_.mean_pressure; }
+    // mean(z); with free boundaries the level of the surface far from the region (the body's
+    // rigid position: mean(z) of the padded cell plus the uniform mode's displacement)
+    double mean_displacement() const;
+    double mean_pressure() const { return forces_.mean_pressure / load_fraction(); }
 
 private:
     void refresh_forces();  // forces_ of the current z
@@ -128,6 +149,17 @@ private:
     // (null if kept), for a caller that must restore it
     std::unique_ptr<Solver> follow_auto_choice();
     [[noreturn]] void diverged(int64_t step, const std::vector<double> &solver_state);
+    // Free boundaries: the region's share of the padded cell (1/4; 1 periodic): the pressure on
+    // the padded cell that makes the region's total force sigma0 lx ly
+    double load_fraction() const { return free() ? 0.25 : 1.0; }
+    // index of region point (x, y) in the grid's fields
+    std::size_t at(int64_t x, int64_t y) const { return static_cast<std::size_t>(y * grid_.nx() + x); }
+    void crop(const double *field, double *out) const;  // the region's values of a grid field
+    // The padded substrate of region heights h: below the region by more than any surface of a
+    // body pressed onto it reaches, and 1000 adhesive ranges rho, so that it neither touches nor
+    // attracts (free boundaries only)
+    RealBuffer padded_substrate(const double *h, double rho) const;
+    void require_periodic(const char *what) const;  // GFMD_ERR_STATE with free boundaries
 
     FftGrid grid_;
     Params params_;
@@ -143,6 +175,7 @@ private:
     // The substrate's shortest wave (substrate_shortest_wave), a function of the substrate only,
     // computed at its first use by the automatic choice after it changed
     mutable std::optional<double> substrate_q_;
+    int64_t rx_, ry_;      // the user's grid (the region)
     int32_t active_solver_;
     std::unique_ptr<Solver> solver_;
     std::unique_ptr<Plasticity> plastic_;  // with a finite hardness only

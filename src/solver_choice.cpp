@@ -58,6 +58,7 @@ int32_t adhesive_fluid_layer(const ChoiceFeatures &f, const ChoiceRule &r) {
 }  // namespace
 
 int32_t choose_solver(const ChoiceFeatures &f, const ChoiceRule &r) {
+    if (f.free_boundary) return GFMD_SOLVER_CG;  // Polonsky-Keer's CG (docs/decisions.md, "Free boundaries")
     if (f.plastic) return GFMD_SOLVER_FIRE;  // the one general solver that takes the yielding wall
     const double cg_cost = f.softness * std::sqrt(f.points);
     if (!f.pressure_control) return under_displacement(f, r, cg_cost);

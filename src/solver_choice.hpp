@@ -9,6 +9,7 @@
 namespace gfmd {
 
 struct ChoiceFeatures {
+    bool free_boundary = false;      // free boundaries (the padded cell): only CG, FIRE and Verlet step there
     int32_t body = 0;                // GFMD_GREEN_*
     bool adhesive = false;           // gamma0 > 0
     bool plastic = false;            // a finite hardness: only FIRE and Verlet take its yielding wall

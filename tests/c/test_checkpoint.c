@@ -157,7 +157,7 @@ static void cg_restart_is_bit_exact(void **state) {
     TS_OK(a, gfmd_step(a, 7));
     TS_OK(a, gfmd_sim_save(a, PATH));
     /* one field more than FIRE's file: the pressure (and its row hashes); 8 numbers of state instead of 3 */
-    assert_int_equal(file_size(PATH), 8 + 8 + 32 + 10 * 8 + 3 * 4 + 8 + 4 + 4 + 8 * 8 + 4 + 12 + 4 * 8 * NX * NY + 4 * 8 * NY + 8);
+    assert_int_equal(file_size(PATH), 8 + 8 + 32 + 10 * 8 + 4 * 4 + 8 + 4 + 4 + 8 * 8 + 4 + 12 + 4 * 8 * NX * NY + 4 * 8 * NY + 8);
     expect_resumed(a, GFMD_SOLVER_CG, 9);
 }
 
@@ -199,11 +199,11 @@ static void damaged_files_are_refused(void **state) {
     TS_OK(a, gfmd_sim_save(a, PATH));
     gfmd_sim_destroy(&a);
     const long n = file_size(PATH);
-    /* format 6: magic, version + flags, grid, 10 f64 + 3 i32 parameters, threads + planner, the
+    /* format 7: magic, version + flags, grid, 10 f64 + 4 i32 parameters, threads + planner, the
      * solver state (count + FIRE's 3 numbers), the count of solver fields (0), the count of
      * plastic fields (0) and the plastic volume, three fields, a hash per row of each field, the
      * hash of header and row hashes */
-    assert_int_equal(n, 8 + 8 + 32 + 10 * 8 + 3 * 4 + 8 + 4 + 4 + 3 * 8 + 4 + 12 + 3 * 8 * NX * NY + 3 * 8 * NY + 8);
+    assert_int_equal(n, 8 + 8 + 32 + 10 * 8 + 4 * 4 + 8 + 4 + 4 + 3 * 8 + 4 + 12 + 3 * 8 * NX * NY + 3 * 8 * NY + 8);
 
     const long cuts[] = {0, 5, 12, 100, n / 2, n - 1};
     for (int i = 0; i < 6; ++i) {
@@ -215,8 +215,8 @@ static void damaged_files_are_refused(void **state) {
         rewrite(PATH, -1, flips[i], NULL, 0, 0);
         expect_refused(GFMD_ERR_FORMAT, "corrupted");
     }
-    const unsigned char v7[4] = {7, 0, 0, 0};
-    rewrite(PATH, -1, -1, v7, 4, 8);
+    const unsigned char v8[4] = {8, 0, 0, 0};
+    rewrite(PATH, -1, -1, v8, 4, 8);
     expect_refused(GFMD_ERR_VERSION, "another version");
     const unsigned char junk[8] = {'P', 'K', 3, 4, 0, 0, 0, 0};
     rewrite(PATH, -1, -1, junk, 8, 0);
@@ -270,6 +270,19 @@ static void as_format5(unsigned char *buf, long *n) {
     put_le(fnv(fnv(0xcbf29ce484222325ULL, buf, fields_at), buf + table, *n - 8 - table), buf + *n - 8);
 }
 
+/* A file of the current format 7 with periodic boundaries as the format-6 file it extends: the
+ * boundary (4 bytes after the hardness, GFMD_BOUNDARY_PERIODIC) taken out; as_format5 then forms
+ * the hash again.  test_free_boundary and restart_process check format 7's free boundaries. */
+enum { OFF_BOUNDARY7 = 140 };
+static void as_format6(unsigned char *buf, long *n) {
+    int32_t boundary = -1;
+    memcpy(&boundary, buf + OFF_BOUNDARY7, 4);
+    assert_int_equal(boundary, GFMD_BOUNDARY_PERIODIC);
+    memmove(buf + OFF_BOUNDARY7, buf + OFF_BOUNDARY7 + 4, (size_t)(*n - OFF_BOUNDARY7 - 4));
+    *n -= 4;
+    buf[8] = 6;
+}
+
 static unsigned char *read_all(const char *path, long *n) {
     *n = file_size(path);
     unsigned char *buf = malloc((size_t)*n);
@@ -277,6 +290,7 @@ static unsigned char *read_all(const char *path, long *n) {
     assert_non_null(f);
     assert_int_equal(fread(buf, 1, (size_t)*n, f), (size_t)*n);
     fclose(f);
+    if (buf[8] == 7) as_format6(buf, n);
     if (buf[8] == 6) as_format5(buf, n);
     return buf;
 }
@@ -360,13 +374,24 @@ static void row_hashes_are_checked(void **state) {
  * and its count as i64 in place of the solver state). */
 static void older_formats_resume(void **state) {
     (void)state;
-    for (int version = 1; version <= 5; ++version)
+    for (int version = 1; version <= 6; ++version)
         for (int32_t solver = GFMD_SOLVER_VERLET; solver <= GFMD_SOLVER_MASS_WEIGHTED_FIRE; ++solver) {
             gfmd_sim *a = make(solver), *b = NULL;
             TS_OK(a, gfmd_step(a, 37));
             TS_OK(a, gfmd_sim_save(a, PATH));
             long n4 = 0;
-            unsigned char *v4 = read_all(PATH, &n4); /* format 5 (read_all: format 6 without its plastic fields) */
+            unsigned char *v4 = NULL;
+            if (version == 6) { /* format 7 without its boundary, its hashes formed again */
+                n4 = file_size(PATH);
+                v4 = malloc((size_t)n4);
+                FILE *f = fopen(PATH, "rb");
+                assert_non_null(f);
+                assert_int_equal(fread(v4, 1, (size_t)n4, f), (size_t)n4);
+                fclose(f);
+                as_format6(v4, &n4);
+            } else {
+                v4 = read_all(PATH, &n4); /* format 5 (read_all: format 7 without its boundary and plastic fields) */
+            }
             if (version <= 4) {
                 /* format 4: format 5 without the active solver (4 bytes at OFF_COUNT) and the row
                  * hashes (3 fields here), one hash over all before it */
@@ -415,7 +440,9 @@ static void older_formats_resume(void **state) {
                     old = v1;
                 }
             }
-            if (version == 5)
+            if (version == 6)
+                write_rehashed5("older.gfmd", old, n_old, 3); /* formats 5 and 6 hash alike */
+            else if (version == 5)
                 write_raw("older.gfmd", old, n_old); /* rehashed by read_all */
             else
                 write_rehashed("older.gfmd", old, n_old);

@@ -160,6 +160,9 @@ int main(int argc, char **argv) {
         long n = 0;
         unsigned char *b = read_all(path, &n);
         const long k = 4; /* h, z, v and CG's pressure */
+        /* format 7's boundary (after the hardness, periodic) out: format 6 */
+        memmove(b + 140, b + 144, (size_t)(n - 144));
+        n -= 4;
         /* format 6's hardness (after mean_z), its active solver (after the planner), its plastic count
          * and volume (after the count of solver fields) out: format 4 */
         const long hardness_at = 132, active_at = 140, n4 = n - 8 - 4 - 12 - 8 * k * NY;

@@ -16,7 +16,9 @@
  * keep (newton_adhesive.gfmd, newton_adhesive_*.bin; it fails with the radius left out: checked).
  * And a plastic run (a hardness the rough contact reaches: FIRE, the load step's substrate and the
  * yielding points in the file): saved after 40 steps with points yielding, resumed for 60 more;
- * its surface and its flattened heights (plastic_*.bin). */
+ * its surface and its flattened heights (plastic_*.bin).  And an adhesive contact with free
+ * boundaries (the default's CG on the padded cell, its pressure in the file): saved after 12
+ * steps, resumed for 15 more, its boundary asserted on both sides (free_*.bin). */
 #include <gfmd.h>
 #include <stdio.h>
 #include <string.h>
@@ -146,6 +148,34 @@ static int plastic(const char *dir, int resume) {
     return good;
 }
 
+static int free_boundary(const char *dir, int resume) {
+    char path[1024];
+    snprintf(path, sizeof path, "%s/free.gfmd", dir);
+    gfmd_sim *s = NULL;
+    int32_t boundary = -1;
+    int good;
+    if (!resume) {
+        good = ok(NULL, gfmd_sim_create_ex(NX, NY, NX, NY, 1, GFMD_PLANNER_ESTIMATE, &s), "create free") &&
+               ok(s, gfmd_set_boundary(s, GFMD_BOUNDARY_FREE), "free boundary") &&
+               ok(s, gfmd_generate_selfaffine(s, 0.8, 16.0, 4.0, 1.0, 9, GFMD_DIST_UNIFORM), "free surface") &&
+               ok(s, gfmd_set_adhesion(s, 1e-3, 0.5), "free adhesion") && ok(s, gfmd_set_pressure(s, 0.05), "free load") &&
+               is_cg(s) && ok(s, gfmd_step(s, 12), "free steps") && ok(s, gfmd_sim_save(s, path), "save free") &&
+               ok(s, gfmd_step(s, 15), "free steps") && write_z(s, dir, "free_straight.bin");
+    } else {
+        char msg[256] = "";
+        const int32_t st = gfmd_sim_load(path, &s, msg, sizeof msg);
+        if (st != GFMD_OK) fprintf(stderr, "restart_process: load free: %s\n", msg);
+        good = st == GFMD_OK && is_cg(s) && ok(s, gfmd_step(s, 15), "free steps") &&
+               write_z(s, dir, "free_resumed.bin");
+    }
+    if (good && (gfmd_get_boundary(s, &boundary) != GFMD_OK || boundary != GFMD_BOUNDARY_FREE)) {
+        fprintf(stderr, "restart_process: the boundary is %d, not free\n", (int)boundary);
+        good = 0;
+    }
+    gfmd_sim_destroy(&s);
+    return good;
+}
+
 int main(int argc, char **argv) {
     if (argc != 3) return 2;
     const char *dir = argv[2];
@@ -161,7 +191,7 @@ int main(int argc, char **argv) {
                    ok(s, gfmd_sim_save(s, ckpt), "save") && ok(s, gfmd_export_wisdom(wisdom), "export wisdom") &&
                    ok(s, gfmd_step(s, 50), "steps") && write_z(s, dir, "z_straight.bin");
         gfmd_sim_destroy(&s);
-        return good && sheets(dir, 0) && plastic(dir, 0) ? 0 : 1;
+        return good && sheets(dir, 0) && plastic(dir, 0) && free_boundary(dir, 0) ? 0 : 1;
     }
     if (!strcmp(argv[1], "resume")) {
         char msg[256] = "";
@@ -170,7 +200,7 @@ int main(int argc, char **argv) {
         if (st != GFMD_OK) fprintf(stderr, "restart_process: load: %s\n", msg);
         good = good && st == GFMD_OK && is_cg(s) && ok(s, gfmd_step(s, 50), "steps") && write_z(s, dir, "z_resumed.bin");
         gfmd_sim_destroy(&s);
-        return good && sheets(dir, 1) && plastic(dir, 1) ? 0 : 1;
+        return good && sheets(dir, 1) && plastic(dir, 1) && free_boundary(dir, 1) ? 0 : 1;
     }
     return 2;
 }
