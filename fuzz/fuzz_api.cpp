@@ -65,7 +65,17 @@ void check_state(gfmd_sim *s, int64_t n) {
     if (gfmd_get_gap(s, g.data()) != GFMD_OK) finding();
     for (double x : g)
         if (!(x >= 0.0) || !std::isfinite(x)) finding();
-    // Persson's theory of any state: OK with a finite variance and an area in [0, 1], or RANGE.
+    // Persson's theory of any state: OK with a finite variance and an area in [0, 1], or RANGE;
+    // with free boundaries refused (STATE) on every call.
+    int32_t boundary = -1;
+    if (gfmd_get_boundary(s, &boundary) != GFMD_OK) finding();
+    if (boundary == GFMD_BOUNDARY_FREE) {
+        double x = 0.0;
+        if (gfmd_persson_variance(s, &x) != GFMD_ERR_STATE || gfmd_persson_contact_area(s, 0.01, &x) != GFMD_ERR_STATE ||
+            gfmd_persson_load(s, 0.3, &x) != GFMD_ERR_STATE)
+            finding();
+        return;
+    }
     double v = -1, pa = -1;
     const int32_t sv = gfmd_persson_variance(s, &v);
     if (sv == GFMD_OK ? !(v >= 0.0 && std::isfinite(v)) : sv != GFMD_ERR_RANGE) finding();
@@ -191,7 +201,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
                 if (st == GFMD_ERR_INVALID_ARG) st = GFMD_OK;
                 break;
             }
-            default: st = gfmd_set_threads(s, static_cast<int32_t>(in.u8() % 4) - 1); break;
+            default: {
+                // the top four bytes switch the boundary (-1 .. 2: two valid, two not); the rest
+                // set threads as before the boundary existed (older inputs replay as they did)
+                const int b = in.u8();
+                st = b >= 252 ? gfmd_set_boundary(s, b - 253) : gfmd_set_threads(s, b % 4 - 1);
+                break;
+            }
         }
         if (trace) {
             double r = 0;

@@ -120,7 +120,8 @@ mkdir -p "$logs"
 # at a time end together.
 required=(test_newton test_cg_reference test_displacement test_api test_adhesion test_units test_threads
   test_continuation test_plasticity test_multilevel test_checkpoint fortran/test_fortran_bindings test_patches
-  test_hertz test_selfaffine test_theory test_sinusoid test_layout test_failed_calls test_green test_topography)
+  test_hertz test_selfaffine test_theory test_sinusoid test_layout test_failed_calls test_green test_topography
+  test_free_boundary)
 binaries=()
 for name in "${required[@]}"; do binaries+=("$root/build/tests/$name"); done
 for t in "$root"/build/tests/test_*; do

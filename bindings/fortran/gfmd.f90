@@ -66,6 +66,8 @@ module gfmd
     procedure :: get_grid => sim_get_grid
     procedure :: set_modulus => sim_set_modulus
     procedure :: set_green => sim_set_green
+    procedure :: set_boundary => sim_set_boundary
+    procedure :: get_boundary => sim_get_boundary
     procedure :: set_poisson => sim_set_poisson
     procedure :: set_heights => sim_set_heights
     procedure :: get_heights => sim_get_heights
@@ -400,6 +402,28 @@ contains
   end subroutine sim_set_modulus
 
   !> kind: GFMD_GREEN_HALFSPACE, GFMD_GREEN_LAYER_FLUID or GFMD_GREEN_LAYER_BONDED; width of a layer.
+  !> GFMD_BOUNDARY_PERIODIC (default) or GFMD_BOUNDARY_FREE (gfmd_set_boundary in gfmd.h).
+  subroutine sim_set_boundary(self, boundary, stat, errmsg)
+    class(gfmd_sim_t), intent(inout) :: self
+    integer, intent(in) :: boundary
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    call finish(self%ptr, c_gfmd_set_boundary(self%ptr, int(boundary, c_int32_t)), 'set_boundary', stat, errmsg)
+  end subroutine sim_set_boundary
+
+  subroutine sim_get_boundary(self, boundary, stat, errmsg)
+    class(gfmd_sim_t), intent(in) :: self
+    integer, intent(out) :: boundary
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    integer(c_int32_t) :: k
+    integer(c_int32_t) :: st
+    k = 0
+    st = c_gfmd_get_boundary(self%ptr, k)
+    boundary = int(k)
+    call finish(self%ptr, st, 'get_boundary', stat, errmsg)
+  end subroutine sim_get_boundary
+
   subroutine sim_set_green(self, kind, width, stat, errmsg)
     class(gfmd_sim_t), intent(inout) :: self
     integer, intent(in) :: kind

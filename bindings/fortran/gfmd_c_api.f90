@@ -15,7 +15,7 @@ module gfmd_c_api
   public :: c_gfmd_reset, c_gfmd_get_contact_area, c_gfmd_get_mean_gap, c_gfmd_get_energies
   public :: c_gfmd_get_gap, c_gfmd_get_surface, c_gfmd_get_pressure, c_strlen
   public :: c_gfmd_sim_save, c_gfmd_sim_load, c_gfmd_set_threads, c_gfmd_get_threads, &
-    c_gfmd_get_solver
+    c_gfmd_get_solver, c_gfmd_set_boundary, c_gfmd_get_boundary
   public :: c_gfmd_set_fft_planner, c_gfmd_import_wisdom, c_gfmd_export_wisdom
   public :: c_gfmd_persson_variance, c_gfmd_persson_contact_area, c_gfmd_persson_load, c_gfmd_least_squares
   public :: c_gfmd_set_hardness, c_gfmd_get_hardness, c_gfmd_get_plasticity
@@ -360,6 +360,20 @@ module gfmd_c_api
     end function
 
     ! int32_t gfmd_get_solver(const gfmd_sim *s, int32_t *solver);
+    function c_gfmd_set_boundary(s, boundary) bind(C, name="gfmd_set_boundary") result(r)
+      import :: c_ptr, c_int32_t
+      type(c_ptr), value :: s
+      integer(c_int32_t), value :: boundary
+      integer(c_int32_t) :: r
+    end function
+
+    function c_gfmd_get_boundary(s, boundary) bind(C, name="gfmd_get_boundary") result(r)
+      import :: c_ptr, c_int32_t
+      type(c_ptr), value :: s
+      integer(c_int32_t), intent(out) :: boundary
+      integer(c_int32_t) :: r
+    end function
+
     function c_gfmd_get_solver(s, solver) bind(C, name="gfmd_get_solver") result(r)
       import :: c_ptr, c_int32_t
       type(c_ptr), value :: s

@@ -45,6 +45,8 @@ globals().update(_VALUES)  # every GFMD_* constant of the C header, under its C 
 HALFSPACE = _VALUES["GFMD_GREEN_HALFSPACE"]
 LAYER_FLUID = _VALUES["GFMD_GREEN_LAYER_FLUID"]
 LAYER_BONDED = _VALUES["GFMD_GREEN_LAYER_BONDED"]
+PERIODIC = _VALUES["GFMD_BOUNDARY_PERIODIC"]
+FREE = _VALUES["GFMD_BOUNDARY_FREE"]
 UNIFORM = _VALUES["GFMD_DIST_UNIFORM"]
 GAUSSIAN = _VALUES["GFMD_DIST_GAUSSIAN"]
 VERLET = _VALUES["GFMD_SOLVER_VERLET"]
@@ -460,15 +462,19 @@ class Simulation:
             self.set_threads(threads)
 
     @classmethod
-    def from_topography(cls, topo: "Topography", threads: int = 0, planner: Optional[int] = None) -> "Simulation":
+    def from_topography(cls, topo: "Topography", threads: int = 0, planner: Optional[int] = None,
+                        boundary: Optional[int] = None) -> "Simulation":
         """A simulation whose grid, cell and substrate are the topography's (its missing points
-        filled first: StateError otherwise).  The cell is periodic (a measured scan: detrend it)."""
+        filled first: StateError otherwise).  boundary: PERIODIC (the default) or FREE, the scan
+        as the whole region of a half-space (a measured, non-periodic scan; see set_boundary)."""
         if topo.missing:
             raise StateError(_VALUES["GFMD_ERR_STATE"],
                              f"{topo.missing} missing points: call fill_missing() on the topography first")
         ny, nx = topo.shape
         lx, ly = topo.physical_size
         sim = cls(nx, ny, lx, ly, threads=threads, planner=planner)
+        if boundary is not None:
+            sim.set_boundary(boundary)
         sim.set_heights(topo.heights)
         return sim
 
@@ -551,6 +557,20 @@ class Simulation:
     def set_green(self, kind: int, width: float = 0.0) -> None:
         """The body: HALFSPACE, LAYER_FLUID (a layer of this width on a fluid foundation) or LAYER_BONDED."""
         self._call("gfmd_set_green", int(kind), float(width))
+
+    def set_boundary(self, boundary: int) -> None:
+        """PERIODIC (the default: the grid is a periodic cell) or FREE: the grid is the whole region
+        of a half-space whose surface beyond it carries no load (zero padding to 2nx x 2ny); the
+        load sigma0 is then the total force sigma0 lx ly, the fields and A/A0 the region's.  Keeps
+        the parameters and the substrate, puts the body flat at rest (gfmd_set_boundary)."""
+        self._call("gfmd_set_boundary", int(boundary))
+
+    @property
+    def boundary(self) -> int:
+        """PERIODIC or FREE."""
+        k = ctypes.c_int32()
+        self._call("gfmd_get_boundary", ctypes.byref(k))
+        return k.value
 
     def set_poisson(self, nu: float) -> None:
         """Poisson's ratio (the bonded layer needs it)."""

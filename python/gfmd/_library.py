@@ -84,6 +84,8 @@ _PROTOTYPES = {
     "gfmd_set_threads": (_sim, _i32),
     "gfmd_get_threads": (_sim, c_int32_p),
     "gfmd_get_solver": (_sim, c_int32_p),
+    "gfmd_set_boundary": (_sim, _i32),
+    "gfmd_get_boundary": (_sim, c_int32_p),
     "gfmd_set_fft_planner": (_sim, _i32),
     "gfmd_import_wisdom": (_str,),
     "gfmd_export_wisdom": (_str,),

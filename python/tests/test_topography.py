@@ -106,7 +106,8 @@ def test_resample_reproduces_a_quadratic():
 def test_measured_scan_example_runs(tmp_path):
     """examples/python/measured_scan.py (the demo's panel) in a small mode: the SDF file it writes
     reads back with its missing points, and Persson's A/A0 from the measured spectrum is near the
-    simulation's (the theory's known underestimate at small A/A0: within a factor 2)."""
+    simulations' with free boundaries and on the periodic cell (the theory's known underestimate at
+    small A/A0: within a factor 2)."""
     import os
     import subprocess
     import sys
@@ -119,6 +120,34 @@ def test_measured_scan_example_runs(tmp_path):
     assert (tmp_path / "measured_scan.png").stat().st_size > 1000
     assert "format sdf_binary" in out.stdout and " missing" in out.stdout
     line = [s for s in out.stdout.splitlines() if s.startswith("sigma0")][0]
-    simulated = float(line.split("simulated ")[1].split(",")[0])
+    free = float(line.split("free boundaries ")[1].split(",")[0])
+    periodic = float(line.split("periodic cell ")[1].split(";")[0])
     persson = float(line.split("measured spectrum ")[1].split(",")[0])
-    assert 0.5 < simulated / persson < 2.0
+    assert 0.5 < free / persson < 2.0 and 0.5 < periodic / persson < 2.0
+
+
+def test_free_boundaries_hertz_and_topography():
+    """Free boundaries from Python: Hertz's contact radius and central pressure without periodic
+    images (Johnson Sec. 4.2; 32^2, a = 8 spacings: the pixel error (spacing/a)^2 / 2 bounds
+    them), the region's total force sigma0 lx ly in the pressures, and a topography solved with
+    free boundaries in one line."""
+    n, radius, a_hertz = 32, 1.0, 0.25
+    force = 4.0 * a_hertz ** 3 / (3.0 * radius)
+    y, x = (np.mgrid[0:n, 0:n] + 0.5) / n - 0.5
+    with gfmd.Simulation(n, n, 1.0, 1.0, planner=gfmd.ESTIMATE) as s:
+        s.set_boundary(gfmd.FREE)
+        assert s.boundary == gfmd.FREE and s.grid == (n, n, 1.0, 1.0)
+        s.set_heights(-(x * x + y * y) / (2 * radius))
+        s.set_pressure(force)
+        s.relax(tol=1e-9)
+        p = s.pressure()
+        assert p.shape == (n, n)
+        assert p.sum() / n ** 2 == pytest.approx(force, rel=1e-6)
+        assert np.sqrt(s.contact_area / np.pi) == pytest.approx(a_hertz, rel=0.5 / 8)
+        assert p[n // 2, n // 2] == pytest.approx(3 * force / (2 * np.pi * a_hertz ** 2), rel=0.5 / 64)
+        assert -s.mean_displacement == pytest.approx(a_hertz ** 2 / radius, rel=0.5 / 64)  # the approach
+        with pytest.raises(gfmd.StateError):
+            s.set_green(gfmd.LAYER_FLUID, 1.0)
+        t = gfmd.Topography.from_heights(s.heights(), (1.0, 1.0))
+    with gfmd.Simulation.from_topography(t, planner=gfmd.ESTIMATE, boundary=gfmd.FREE) as r:
+        assert r.boundary == gfmd.FREE and np.array_equal(r.heights(), t.heights)

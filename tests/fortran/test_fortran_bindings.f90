@@ -20,6 +20,7 @@ program test_fortran_bindings
   call wide_seed_and_creation_options()
   call patches_histogram_and_plasticity()
   call topographies()
+  call free_boundaries()
 
   print '(i0, " passed, ", i0, " failed")', passed, failed
   if (failed > 0) error stop 1
@@ -348,6 +349,41 @@ contains
   !> A text matrix written here read back bit for bit (x fastest: h(nx, ny)); a generated
   !> surface's spectrum through the module against the C calls on the same handle, bit for bit;
   !> its rms slope the generator's; Persson's area the simulation's; errors through stat.
+  !> Free boundaries through the module and through the C API: the same surface to the bit, the
+  !> boundary reported, a layer refused and an unknown boundary too.
+  subroutine free_boundaries()
+    integer, parameter :: nx = 24, ny = 16
+    type(gfmd_sim_t) :: a
+    type(c_ptr) :: p
+    real(dp) :: za(nx, ny), zc(nx * ny)
+    integer :: boundary, st
+    integer(c_int64_t) :: steps
+    call a%create(nx, ny, real(nx, dp), real(ny, dp), threads=1, planner=GFMD_PLANNER_ESTIMATE)
+    call a%set_boundary(GFMD_BOUNDARY_FREE)
+    call a%get_boundary(boundary)
+    call check(boundary == GFMD_BOUNDARY_FREE, 'the boundary set is the boundary reported')
+    call a%generate_selfaffine(0.8_dp, 12.0_dp, 4.0_dp, 1.0_dp, 5)
+    call a%set_pressure(0.05_dp)
+    call a%relax()
+    call a%get_surface(za)
+    p = c_null_ptr
+    call ok(c_gfmd_sim_create_ex(int(nx, c_int64_t), int(ny, c_int64_t), real(nx, c_double), real(ny, c_double), &
+                                 1_c_int32_t, int(GFMD_PLANNER_ESTIMATE, c_int32_t), p), 'C create')
+    call ok(c_gfmd_set_boundary(p, int(GFMD_BOUNDARY_FREE, c_int32_t)), 'C boundary')
+    call ok(c_gfmd_generate_selfaffine(p, 0.8_dp, 12.0_dp, 4.0_dp, 1.0_dp, 5_c_int64_t, &
+                                       int(GFMD_DIST_UNIFORM, c_int32_t)), 'C generate')
+    call ok(c_gfmd_set_pressure(p, 0.05_dp), 'C pressure')
+    call ok(c_gfmd_relax(p, 0.0_dp, 1000000_c_int64_t, steps), 'C relax')
+    call ok(c_gfmd_get_surface(p, zc), 'C surface')
+    call c_gfmd_sim_destroy(p)
+    call check(all(za == reshape(zc, [nx, ny])), 'free boundaries: the module''s surface is the C API''s')
+    call a%set_green(GFMD_GREEN_LAYER_FLUID, 2.0_dp, stat=st)
+    call check(st == GFMD_ERR_STATE, 'a layer with free boundaries is refused')
+    call a%set_boundary(5, stat=st)
+    call check(st == GFMD_ERR_BAD_ENUM, 'an unknown boundary is refused')
+    call a%destroy()
+  end subroutine free_boundaries
+
   subroutine topographies()
     integer, parameter :: nx = 6, ny = 4, n = 64, nb = 12
     type(gfmd_topo_t) :: t, g
