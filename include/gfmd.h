@@ -688,6 +688,19 @@ GFMD_API int32_t gfmd_topo_persson_contact_area(const gfmd_topo *t, int32_t wind
                                                 double nu, double e_star, double sigma0, double *rel_area,
                                                 double *variance);
 
+/**
+ * Persson's mean gap u(sigma0) of the topography pressed on a body (the arguments as
+ * gfmd_topo_persson_contact_area(), sigma0 > 0): Yang & Persson's theory (J. Phys.: Condens.
+ * Matter 20, 215214 (2008), Eq. 2), u = sum_q |h_q|^2 k(q) J(sigma0 / sqrt(2 V(q))) / (2 sqrt(2 V(q))) with
+ * k(q) = q E* / (2 f(q w)), V(q) the full-contact pressure variance of the modes up to |q| and
+ * J(s) = (2/sqrt(pi)) int_s^inf dt/t [gamma + 3 (1 - gamma) erf(t)^2] exp(-t^2); on a half-space
+ * the paper's integrals become the grid's sums.  @p gamma in [0, 1] is the theory's
+ * elastic-energy factor (< 0: the paper's 0.45).  The mean gap grows as -ln(sigma0) at low loads
+ * and vanishes at high ones (docs/topography.md).
+ */
+GFMD_API int32_t gfmd_topo_persson_mean_gap(const gfmd_topo *t, int32_t window, int32_t kind, double width,
+                                            double nu, double e_star, double sigma0, double gamma, double *mean_gap);
+
 #ifdef __cplusplus
 }
 #endif

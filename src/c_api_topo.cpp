@@ -172,4 +172,13 @@ int32_t gfmd_topo_persson_contact_area(const gfmd_topo *t, int32_t window, int32
     });
 }
 
+int32_t gfmd_topo_persson_mean_gap(const gfmd_topo *t, int32_t window, int32_t kind, double width, double nu,
+                                   double e_star, double sigma0, double gamma, double *mean_gap) {
+    return on_topo(t, [&] {
+        need(mean_gap, "mean_gap");
+        *mean_gap = gfmd::topography_persson_mean_gap(t->topo, window, kind, width, nu, e_star, sigma0,
+                                                      gamma < 0.0 ? 0.45 : gamma);
+    });
+}
+
 }  // extern "C"

@@ -971,23 +971,126 @@ SpectralMoments spectral_moments(const Topography &t, int32_t window) {
     return m;
 }
 
-double topography_persson_variance(const Topography &t, int32_t window, int32_t kind, double width, double nu,
-                                   double e_star) {
+namespace {
+void check_body(int32_t kind, double width, double nu, double e_star) {
     validate_green_kind(kind);
     if (kind != GFMD_GREEN_HALFSPACE && !(std::isfinite(width) && width > 0.0))
         fail(GFMD_ERR_INVALID_ARG, "a layer's width must be finite and > 0");
     if (kind == GFMD_GREEN_LAYER_BONDED) validate_poisson(nu);
     if (!(std::isfinite(e_star) && e_star > 0.0)) fail(GFMD_ERR_INVALID_ARG, "e_star must be finite and > 0");
+}
+
+// The stiffness 1/G(q) = q E* / (2 f(q w)) of the body at |q|
+double body_stiffness(int32_t kind, double width, double nu, double e_star, double q) {
+    const double f = kind == GFMD_GREEN_HALFSPACE ? 1.0 : green_factor(kind, q * width, nu);
+    return q * e_star / (2.0 * f);
+}
+}  // namespace
+
+double topography_persson_variance(const Topography &t, int32_t window, int32_t kind, double width, double nu,
+                                   double e_star) {
+    check_body(kind, width, nu, e_star);
     const Spectrum s = transform(t, window, false);
     double v = 0.0;
     for_each_mode(t, s, [&](double w, double q2, double a2) {
-        const double q = std::sqrt(q2);
-        const double f = kind == GFMD_GREEN_HALFSPACE ? 1.0 : green_factor(kind, q * width, nu);
-        const double k = q * e_star / (2.0 * f) * s.scale;  // the stiffness 1/G(q), times the scale
+        const double k = body_stiffness(kind, width, nu, e_star, std::sqrt(q2)) * s.scale;  // times the scale
         v += w * k * k * a2;
     });
     if (!std::isfinite(v)) fail(GFMD_ERR_RANGE, "the full-contact pressure variance overflows double precision");
     return v;
+}
+
+
+// Persson's mean gap.  The elastic energy of the contact at load p is
+//   U(p) / A0 = (1/2) sum_q |h_q|^2 k(q) W(q, p),  W = P [gamma + (1 - gamma) P^2],
+// P(q, p) = erf(p / sqrt(2 V(q))) the contact area seen at magnification q, V(q) the full-contact
+// pressure variance of the modes up to |q| (V = 2 G(q) of Persson's notation: on a half-space
+// k = q E*/2 and this is the theory of Yang & Persson's Eq. 2, its integrals the grid's sums), and
+// the mean gap follows from p = -dU/du / A0 with u(infinity) = 0:
+//   u(p) = int_p^inf dp'/p' dU/dp' / A0 = sum_q |h_q|^2 k(q) / (2 sqrt(2 V(q))) J(p / sqrt(2 V(q))),
+//   J(s0) = (2/sqrt(pi)) int_s0^inf ds/s [gamma + 3 (1 - gamma) erf(s)^2] e^(-s^2)
+//         = (gamma/sqrt(pi)) E1(s0^2) + (6 (1 - gamma)/sqrt(pi)) K(s0),
+//   K(s0) = int_s0^inf erf(s)^2 e^(-s^2) ds / s,
+// after s = p'/sqrt(2 V(q)).  K is smooth and bounded (erf^2/s ~ 4 s/pi at 0): tabulated once on
+// [0, 8] (K(8) ~ 1e-30) by Simpson's rule from the top and interpolated by cubic Hermite with its
+// exact derivative, to ~1e-13.
+namespace {
+
+constexpr double kTableEnd = 8.0;
+constexpr int kTableSteps = 8192;
+
+double k_derivative(double s) {
+    if (s == 0.0) return 0.0;
+    const double e = std::erf(s);
+    return -e * e * std::exp(-s * s) / s;
+}
+
+const std::vector<double> &k_table() {
+    static const std::vector<double> table = [] {
+        std::vector<double> k(kTableSteps + 1, 0.0);
+        const double h = kTableEnd / kTableSteps;
+        for (int i = kTableSteps - 1; i >= 0; --i) {  // Simpson on [s_i, s_i+1] with its midpoint
+            const double a = i * h;
+            k[static_cast<std::size_t>(i)] = k[static_cast<std::size_t>(i) + 1] -
+                h / 6.0 * (k_derivative(a) + 4.0 * k_derivative(a + 0.5 * h) + k_derivative(a + h));
+        }
+        return k;
+    }();
+    return table;
+}
+
+double k_integral(double s) {
+    if (!(s < kTableEnd)) return 0.0;
+    const std::vector<double> &k = k_table();
+    const double h = kTableEnd / kTableSteps, x = s / h;
+    const auto i = std::min(static_cast<int>(x), kTableSteps - 1);
+    const double u = x - i, a = i * h;
+    const double h00 = (1 + 2 * u) * (1 - u) * (1 - u), h10 = u * (1 - u) * (1 - u), h01 = u * u * (3 - 2 * u),
+                 h11 = u * u * (u - 1);
+    return h00 * k[static_cast<std::size_t>(i)] + h10 * h * k_derivative(a) + h01 * k[static_cast<std::size_t>(i) + 1] +
+           h11 * h * k_derivative(a + h);
+}
+
+double gap_kernel(double s0, double gamma) {
+    const double x = s0 * s0;
+    const double e1 = x > 700.0 ? 0.0 : -std::expint(-x);  // E1(x) = -Ei(-x)
+    return (gamma * e1 + 6.0 * (1.0 - gamma) * k_integral(s0)) / std::sqrt(kPi);
+}
+
+}  // namespace
+
+double topography_persson_mean_gap(const Topography &t, int32_t window, int32_t kind, double width, double nu,
+                                   double e_star, double sigma0, double gamma) {
+    check_body(kind, width, nu, e_star);
+    if (!(std::isfinite(sigma0) && sigma0 > 0.0))
+        fail(GFMD_ERR_INVALID_ARG, "sigma0 must be finite and > 0 (the mean gap diverges at zero load)");
+    if (!(gamma >= 0.0 && gamma <= 1.0)) fail(GFMD_ERR_INVALID_ARG, "gamma must be in [0, 1]");
+    const Spectrum s = transform(t, window, false);
+    struct Mode {
+        double q2, variance, energy;  // |q|^2; w |h_q|^2 k^2 and w |h_q|^2 k / 2, over scale^2
+    };
+    std::vector<Mode> modes;
+    modes.reserve(static_cast<std::size_t>(t.ny) * static_cast<std::size_t>(s.nxh));
+    for_each_mode(t, s, [&](double w, double q2, double a2) {
+        const double k = body_stiffness(kind, width, nu, e_star, std::sqrt(q2));
+        modes.push_back({q2, w * a2 * k * k, 0.5 * w * a2 * k});
+    });
+    std::sort(modes.begin(), modes.end(), [](const Mode &a, const Mode &b) { return a.q2 < b.q2; });
+    // sigma0 / scale against sqrt(2 V / scale^2); the sum (|h|^2 / sqrt(V)) times scale at the end
+    const double p = sigma0 / s.scale;
+    double v = 0.0, gap = 0.0;
+    for (std::size_t i = 0; i < modes.size();) {
+        std::size_t j = i;  // the modes of one |q|: V(q) holds them all
+        while (j < modes.size() && modes[j].q2 == modes[i].q2) v += modes[j++].variance;
+        if (v > 0.0) {
+            const double root = std::sqrt(2.0 * v), kernel = gap_kernel(p / root, gamma) / root;
+            for (; i < j; ++i) gap += modes[i].energy * kernel;
+        }
+        i = j;
+    }
+    gap *= s.scale;
+    if (!std::isfinite(gap) || !std::isfinite(v)) fail(GFMD_ERR_RANGE, "Persson's mean gap overflows double precision");
+    return gap;
 }
 
 }  // namespace gfmd

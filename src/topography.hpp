@@ -52,6 +52,10 @@ SpectralMoments spectral_moments(const Topography &t, int32_t window);
 // Persson's full-contact pressure variance of the topography on a body (GFMD_GREEN_*).
 double topography_persson_variance(const Topography &t, int32_t window, int32_t kind, double width, double nu,
                                    double e_star);
+// Persson's mean gap at sigma0 > 0 (Yang & Persson, J. Phys.: Condens. Matter 20, 215214 (2008),
+// Eq. 2, with the body's stiffness: topography.cpp), gamma in [0, 1] their elastic-energy factor.
+double topography_persson_mean_gap(const Topography &t, int32_t window, int32_t kind, double width, double nu,
+                                   double e_star, double sigma0, double gamma);
 
 }  // namespace gfmd
 

@@ -45,6 +45,7 @@ module gfmd
     procedure :: profile_psd => topo_profile_psd
     procedure :: moments => topo_moments
     procedure :: persson_contact_area => topo_persson_contact_area
+    procedure :: persson_mean_gap => topo_persson_mean_gap
     final :: topo_final
   end type gfmd_topo_t
 
@@ -1228,5 +1229,33 @@ contains
                      'topo%persson_contact_area', stat, errmsg)
     if (present(variance)) variance = v
   end subroutine topo_persson_contact_area
+
+  !> Persson's mean gap at sigma0 > 0 (gfmd_topo_persson_mean_gap; gamma default 0.45).
+  subroutine topo_persson_mean_gap(self, sigma0, mean_gap, kind, width, nu, e_star, window, gamma, stat, errmsg)
+    class(gfmd_topo_t), intent(in) :: self
+    real(dp), intent(in) :: sigma0
+    real(dp), intent(out) :: mean_gap
+    integer, intent(in), optional :: kind, window
+    real(dp), intent(in), optional :: width, nu, e_star, gamma
+    integer, intent(out), optional :: stat
+    character(*), intent(out), optional :: errmsg
+    integer(c_int32_t) :: k, w
+    real(c_double) :: wd, n, e, g
+    k = GFMD_GREEN_HALFSPACE
+    if (present(kind)) k = int(kind, c_int32_t)
+    w = GFMD_WINDOW_NONE
+    if (present(window)) w = int(window, c_int32_t)
+    wd = 0
+    if (present(width)) wd = width
+    n = 0
+    if (present(nu)) n = nu
+    e = 1
+    if (present(e_star)) e = e_star
+    g = 0.45_dp
+    if (present(gamma)) g = gamma
+    mean_gap = 0
+    call topo_finish(self, c_gfmd_topo_persson_mean_gap(self%ptr, w, k, wd, n, e, sigma0, g, mean_gap), &
+                     'topo%persson_mean_gap', stat, errmsg)
+  end subroutine topo_persson_mean_gap
 
 end module gfmd

@@ -6,7 +6,7 @@ is missing), the way a profilometer exports it.  It is read back in micrometres,
 filled (Laplace) and its tilt and bow removed (second order); its power spectrum (Hann window)
 is plotted against the generator's C(q); the contact is solved with free boundaries (the scan is
 the whole region of a half-space, nothing beyond it is loaded) and, beside it, on the scan taken as
-a periodic cell; Persson's A/A0 from the measured spectrum is set beside both; and the free
+a periodic cell; Persson's A/A0 and mean gap from the measured spectrum are set beside both; and the free
 contact's gap and pressure are drawn.  The demo (scripts/demo.sh) writes it beside the paper's figures.
 
     PYTHONPATH=python python3 examples/python/measured_scan.py [--n 256] [--out .]
@@ -100,9 +100,11 @@ def main():
     with gfmd.Simulation.from_topography(t, planner=gfmd.ESTIMATE) as cell:
         cell.set_pressure(sigma0)
         cell.relax()
-        periodic = cell.contact_area
+        periodic, periodic_gap = cell.contact_area, cell.mean_gap
     print(f"sigma0 = {sigma0:.4g} E*: A/A0 with free boundaries {sim.contact_area:.4f}, as a periodic cell "
           f"{periodic:.4f}; Persson from the measured spectrum {measured:.4f}")
+    print(f"mean gap with free boundaries {sim.mean_gap:.4f} um, as a periodic cell {periodic_gap:.4f} um; "
+          f"Persson from the measured spectrum {t.persson_mean_gap(sigma0, window='hann'):.4f} um")
 
     fig, ax = plt.subplots(2, 2, figsize=(10.5, 9))
     extent = (0, t.physical_size[0], 0, t.physical_size[1])

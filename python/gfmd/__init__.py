@@ -423,6 +423,16 @@ class Topography:
                                                              ctypes.byref(a), ctypes.byref(v)), "persson_contact_area")
         return a.value
 
+    def persson_mean_gap(self, sigma0: float, kind: int = HALFSPACE, width: float = 0.0, nu: float = 0.0,
+                         e_star: float = 1.0, window: Optional[str] = None, gamma: float = 0.45) -> float:
+        """Persson's mean gap at sigma0 > 0 from this topography's spectrum, on a body (Yang &
+        Persson 2008; gamma their elastic-energy factor; gfmd_topo_persson_mean_gap)."""
+        u = ctypes.c_double()
+        self._check(self._lib.gfmd_topo_persson_mean_gap(self._h, _choice(_WINDOWS, window, "window"), int(kind),
+                                                         float(width), float(nu), float(e_star), float(sigma0),
+                                                         float(gamma), ctypes.byref(u)), "persson_mean_gap")
+        return u.value
+
 
 def read_topography(path: PathLike, unit: float = 1.0, format: Union[str, int] = "auto") -> Topography:
     """Read a topography file (text matrix, x y z, .gsf, .sdf text or binary, .npy; detected from

@@ -389,7 +389,7 @@ contains
     type(gfmd_topo_t) :: t, g
     type(gfmd_sim_t) :: sim
     real(dp) :: h(nx, ny), back(nx, ny), hs(n, n), q(nb), c(nb), qc(nb), cc(nb), lx, ly
-    real(dp) :: rh, rs, rk, a, sa, v
+    real(dp) :: rh, rs, rk, a, sa, v, mg, mgc
     real(dp), allocatable :: q1(:), c1(:)
     integer :: i, j, u, gx, gy, f, m, st, count(nb)
     integer(c_int64_t) :: countc(nb)
@@ -429,6 +429,10 @@ contains
     call g%persson_contact_area(0.05_dp, a, variance=v)
     call sim%persson_contact_area(0.05_dp, sa)
     call check(abs(a / sa - 1) < 1e-12_dp, 'Persson''s area of the topography is the simulation''s')
+    call g%persson_mean_gap(0.05_dp, mg)
+    call check(c_gfmd_topo_persson_mean_gap(gfmd_topo_c_handle(g), GFMD_WINDOW_NONE, GFMD_GREEN_HALFSPACE, 0.0_dp, &
+                                            0.0_dp, 1.0_dp, 0.05_dp, 0.45_dp, mgc) == 0 .and. mg == mgc .and. mg > 0, &
+               'Persson''s mean gap: the module''s is the C API''s')
     call g%profile_psd(q1, c1)
     call check(size(q1) == n / 2 + 1 .and. abs(q1(1) - 8.0_dp * atan(1.0_dp) / n) < 1e-15_dp, &
                'the profiles'' PSD: nx/2 + 1 wavenumbers 2 pi k / lx')
