@@ -30,6 +30,7 @@ target_include_directories(gfmd_mpi PRIVATE ${FFTW3_MPI_INCLUDE_DIR})
 target_link_libraries(gfmd_mpi PUBLIC MPI::MPI_C)
 target_link_libraries(gfmd_mpi PRIVATE ${FFTW3_MPI_LIBRARY} ${FFTW3_OMP_LIBRARY} PkgConfig::FFTW3 PkgConfig::LAPACKE
   OpenMP::OpenMP_CXX MPI::MPI_CXX m)
+target_link_libraries(gfmd_mpi PRIVATE ${GFMD_X3P_LIBS})
 target_compile_options(gfmd_mpi PRIVATE ${GFMD_CXX_WARNINGS})
 if(BUILD_SHARED_LIBS)
   target_link_options(gfmd_mpi PRIVATE -Wl,--version-script=${CMAKE_CURRENT_SOURCE_DIR}/src/gfmd.map)

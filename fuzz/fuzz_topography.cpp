@@ -41,7 +41,7 @@ bool failure(int32_t st) { return st > GFMD_OK && st <= GFMD_ERR_MPI; }
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     if (size < 1) return 0;
-    const int32_t format = data[0] % (GFMD_TOPO_NPY + 1);
+    const int32_t format = data[0] % (GFMD_TOPO_X3P + 1);
     FILE *f = std::fopen(scratch().c_str(), "wb");
     if (f == nullptr) return 0;
     if (size > 1) std::fwrite(data + 1, 1, size - 1, f);

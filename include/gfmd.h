@@ -579,6 +579,10 @@ GFMD_API int32_t gfmd_least_squares(int64_t m, int64_t n, const double *a, const
 /** Opaque topography handle: a grid of heights read from an instrument's file (or given). */
 typedef struct gfmd_topo gfmd_topo;
 
+/** 1 if this build reads files of @p format (GFMD_TOPO_*), 0 if not: GFMD_TOPO_X3P needs a build
+ *  with libzip and libxml2 (docs/topography.md); unknown formats 0. */
+GFMD_API int32_t gfmd_topo_format_supported(int32_t format);
+
 /**
  * Read a topography from @p path: a text matrix or x y z listing, a Gwyddion simple field (.gsf),
  * an ISO 25178-71 / BCR surface data file (.sdf, text or binary) or a numpy .npy array

@@ -2,7 +2,7 @@
 # Installs, on Debian or Ubuntu, the packages gfmd needs that are missing (needs root or sudo).
 #   scripts/setup.sh [extra-package ...]
 set -euo pipefail
-pkgs=(cmake make g++ gcc gfortran pkg-config libfftw3-dev liblapacke-dev libcmocka-dev "$@")
+pkgs=(cmake make g++ gcc gfortran pkg-config libfftw3-dev liblapacke-dev libcmocka-dev libzip-dev libxml2-dev "$@")
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -8,6 +8,7 @@
 #include "c_api_support.hpp"
 #include "gfmd.h"
 #include "topography.hpp"
+#include "x3p.hpp"
 
 struct gfmd_topo {
     gfmd::Topography topo;
@@ -170,6 +171,11 @@ int32_t gfmd_topo_persson_contact_area(const gfmd_topo *t, int32_t window, int32
         *rel_area = v > 0.0 ? std::erf(sigma0 / std::sqrt(2.0 * v)) : (sigma0 > 0.0 ? 1.0 : 0.0);
         if (variance) *variance = v;
     });
+}
+
+int32_t gfmd_topo_format_supported(int32_t format) {
+    if (format == GFMD_TOPO_X3P) return gfmd::x3p_supported() ? 1 : 0;
+    return (format >= GFMD_TOPO_AUTO && format <= GFMD_TOPO_NPY) ? 1 : 0;
 }
 
 int32_t gfmd_topo_persson_mean_gap(const gfmd_topo *t, int32_t window, int32_t kind, double width, double nu,

@@ -20,6 +20,7 @@
 #include "gfmd.h"
 #include "green.hpp"
 #include "least_squares.hpp"
+#include "x3p.hpp"
 
 namespace gfmd {
 namespace {
@@ -550,6 +551,7 @@ Topography from_npy(const std::string &bytes, double unit) {
 
 int32_t detect(const std::string &bytes) {
     if (bytes.compare(0, 6, "\x93NUMPY") == 0) return GFMD_TOPO_NPY;
+    if (looks_like_zip(bytes)) return GFMD_TOPO_X3P;
     if (bytes.compare(0, 21, "Gwyddion Simple Field") == 0) return GFMD_TOPO_GSF;
     if (bytes.size() >= 8 && (bytes.compare(1, 4, "BCR-") == 0 || bytes.compare(1, 4, "ISO-") == 0)) {
         if (bytes[0] == 'a') return GFMD_TOPO_SDF_TEXT;
@@ -671,7 +673,7 @@ int64_t Topography::missing() const {
 
 Topography parse_topography(const std::string &bytes, int32_t format, double unit) {
     if (!(std::isfinite(unit) && unit > 0.0)) fail(GFMD_ERR_INVALID_ARG, "unit must be a finite length > 0 in metres");
-    if (format < GFMD_TOPO_AUTO || format > GFMD_TOPO_NPY) fail(GFMD_ERR_BAD_ENUM, "unknown topography format");
+    if (format < GFMD_TOPO_AUTO || format > GFMD_TOPO_X3P) fail(GFMD_ERR_BAD_ENUM, "unknown topography format");
     const int32_t f = format == GFMD_TOPO_AUTO ? detect(bytes) : format;
     Topography t;
     switch (f) {
@@ -679,6 +681,7 @@ Topography parse_topography(const std::string &bytes, int32_t format, double uni
     case GFMD_TOPO_SDF_TEXT: t = from_sdf_text(bytes, unit); break;
     case GFMD_TOPO_SDF_BINARY: t = from_sdf_binary(bytes, unit); break;
     case GFMD_TOPO_NPY: t = from_npy(bytes, unit); break;
+    case GFMD_TOPO_X3P: t = from_x3p(bytes, unit); break;
     default: t = from_table(bytes, format, unit); break;
     }
     // the unit conversion may overflow what the file's numbers did not

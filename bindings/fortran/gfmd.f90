@@ -23,7 +23,7 @@ module gfmd
   public :: gfmd_sim_t, gfmd_version, gfmd_status_string, gfmd_green_factor, gfmd_least_squares
   public :: gfmd_import_wisdom, gfmd_export_wisdom
   public :: gfmd_sim_adopt, gfmd_sim_c_handle, gfmd_label_patches
-  public :: gfmd_topo_t, gfmd_topo_c_handle
+  public :: gfmd_topo_t, gfmd_topo_c_handle, gfmd_topo_format_supported
 
   !> A measured topography (gfmd_topo_*): heights h(nx, ny), NaN at missing points, read from an
   !> instrument's file or given.  Free it with `call topo%destroy()`.
@@ -1229,6 +1229,12 @@ contains
                      'topo%persson_contact_area', stat, errmsg)
     if (present(variance)) variance = v
   end subroutine topo_persson_contact_area
+
+  !> Whether this build reads files of a format (GFMD_TOPO_*; x3p needs libzip and libxml2).
+  logical function gfmd_topo_format_supported(format)
+    integer, intent(in) :: format
+    gfmd_topo_format_supported = c_gfmd_topo_format_supported(int(format, c_int32_t)) == 1
+  end function gfmd_topo_format_supported
 
   !> Persson's mean gap at sigma0 > 0 (gfmd_topo_persson_mean_gap; gamma default 0.45).
   subroutine topo_persson_mean_gap(self, sigma0, mean_gap, kind, width, nu, e_star, window, gamma, stat, errmsg)

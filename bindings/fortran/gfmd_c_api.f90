@@ -23,7 +23,7 @@ module gfmd_c_api
   public :: c_gfmd_topo_read, c_gfmd_topo_from_heights, c_gfmd_topo_destroy, c_gfmd_topo_last_error, &
             c_gfmd_topo_get_grid, c_gfmd_topo_get_info, c_gfmd_topo_set_physical_size, c_gfmd_topo_get_heights, &
             c_gfmd_topo_fill_missing, c_gfmd_topo_detrend, c_gfmd_topo_resample, c_gfmd_topo_psd, c_gfmd_topo_profile_psd, &
-            c_gfmd_topo_moments, c_gfmd_topo_persson_mean_gap, c_gfmd_topo_persson_contact_area
+            c_gfmd_topo_moments, c_gfmd_topo_persson_mean_gap, c_gfmd_topo_format_supported, c_gfmd_topo_persson_contact_area
   public :: c_gfmd_get_pressure_histogram, c_gfmd_persson_pressure_distribution
 
   interface
@@ -647,6 +647,12 @@ module gfmd_c_api
       integer(c_int32_t), value :: window, kind
       real(c_double), value :: width, nu, e_star, sigma0
       real(c_double), intent(out) :: area, variance
+      integer(c_int32_t) :: r
+    end function
+
+    function c_gfmd_topo_format_supported(format) bind(C, name="gfmd_topo_format_supported") result(r)
+      import :: c_int32_t
+      integer(c_int32_t), value :: format
       integer(c_int32_t) :: r
     end function
 

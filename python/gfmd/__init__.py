@@ -268,7 +268,7 @@ def load(path: PathLike, comm=None) -> "Simulation":
 
 
 # ------------------------------------------------------------------ measured topographies
-_FORMATS = {"auto": 0, "matrix": 1, "xyz": 2, "gsf": 3, "sdf_text": 4, "sdf_binary": 5, "npy": 6}
+_FORMATS = {"auto": 0, "matrix": 1, "xyz": 2, "gsf": 3, "sdf_text": 4, "sdf_binary": 5, "npy": 6, "x3p": 7}
 _FILLS = {"nearest": _VALUES["GFMD_FILL_NEAREST"], "laplace": _VALUES["GFMD_FILL_LAPLACE"]}
 _TRENDS = {"height": _VALUES["GFMD_DETREND_HEIGHT"], "plane": _VALUES["GFMD_DETREND_PLANE"],
            "curvature": _VALUES["GFMD_DETREND_CURVATURE"]}
@@ -432,6 +432,11 @@ class Topography:
                                                          float(width), float(nu), float(e_star), float(sigma0),
                                                          float(gamma), ctypes.byref(u)), "persson_mean_gap")
         return u.value
+
+
+def x3p_supported() -> bool:
+    """Whether this build of the library reads x3p files (built with libzip and libxml2)."""
+    return bool(_c().gfmd_topo_format_supported(_FORMATS["x3p"]))
 
 
 def read_topography(path: PathLike, unit: float = 1.0, format: Union[str, int] = "auto") -> Topography:

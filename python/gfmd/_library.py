@@ -129,6 +129,7 @@ _PROTOTYPES = {
     "gfmd_topo_profile_psd": (_sim, _i32, _i64, c_double_p, c_double_p, c_int64_p),
     "gfmd_topo_moments": (_sim, _i32, c_double_p, c_double_p, c_double_p),
     "gfmd_topo_persson_contact_area": (_sim, _i32, _i32, _dbl, _dbl, _dbl, _dbl, c_double_p, c_double_p),
+    "gfmd_topo_format_supported": (_i32,),
     "gfmd_topo_persson_mean_gap": (_sim, _i32, _i32, _dbl, _dbl, _dbl, _dbl, _dbl, c_double_p),
     "gfmd_version": (),
     "gfmd_status_string": (_i32,),

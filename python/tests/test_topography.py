@@ -185,3 +185,38 @@ def test_persson_mean_gap_against_numpy_quadrature():
         assert t.persson_mean_gap(p, gamma=gamma) == pytest.approx(ref, rel=1e-9)
     with pytest.raises(gfmd.InvalidArgument):
         t.persson_mean_gap(0.0)
+
+
+def test_x3p_written_with_zipfile_reads_back(tmp_path):
+    """An ISO 5436-2 x3p archive written with Python's zipfile (another writer than the C test's
+    libzip): float32 heights linked from main.xml, NaN points missing, read back in micrometres
+    exactly as the float32 values times the unit conversion; the Python name of the format."""
+    import zipfile
+
+    ny, nx = 4, 6
+    z = (np.arange(ny * nx, dtype="<f4").reshape(ny, nx) - 7.0) * np.float32(1e-8)
+    z[2, 3] = np.nan
+    xml = f"""<?xml version="1.0" encoding="UTF-8"?>
+<p:ISO5436_2 xmlns:p="http://www.opengps.eu/2008/ISO5436_2">
+ <Record1><Revision>ISO5436 - 2000</Revision><FeatureType>SUR</FeatureType><Axes>
+  <CX><AxisType>I</AxisType><DataType>D</DataType><Increment>1e-6</Increment><Offset>0</Offset></CX>
+  <CY><AxisType>I</AxisType><DataType>D</DataType><Increment>2e-6</Increment><Offset>0</Offset></CY>
+  <CZ><AxisType>A</AxisType><DataType>F</DataType><Increment>1</Increment><Offset>0</Offset></CZ>
+ </Axes></Record1>
+ <Record3><MatrixDimension><SizeX>{nx}</SizeX><SizeY>{ny}</SizeY><SizeZ>1</SizeZ></MatrixDimension>
+  <DataLink><PointDataLink>bin/data.bin</PointDataLink></DataLink></Record3>
+</p:ISO5436_2>"""
+    path = tmp_path / "scan.x3p"
+    with zipfile.ZipFile(path, "w", compression=zipfile.ZIP_DEFLATED) as f:
+        f.writestr("main.xml", xml)
+        f.writestr("bin/data.bin", z.tobytes())
+    if not gfmd.x3p_supported():
+        with pytest.raises(gfmd.StateError, match="libzip"):
+            gfmd.read_topography(path)
+        return
+    t = gfmd.read_topography(path, unit=1e-6)
+    assert (t.format, t.shape, t.has_units, t.missing) == ("x3p", (ny, nx), True, 1)
+    assert t.physical_size == pytest.approx((nx * 1e-6 / 1e-6, ny * 2e-6 / 1e-6), rel=1e-15)
+    expect = z.astype(np.float64) / 1e-6
+    assert np.array_equal(np.isnan(t.heights), np.isnan(expect))
+    assert np.array_equal(t.heights[~np.isnan(expect)], expect[~np.isnan(expect)])

@@ -21,6 +21,10 @@
 #include "gfmd.h"
 #include "test_support.h"
 
+#ifdef GFMD_TEST_X3P
+#include <zip.h>
+#endif
+
 static const double kPi = 3.14159265358979323846;
 
 static void write_bytes(const char *path, const void *data, size_t n) {
@@ -733,6 +737,164 @@ static void persson_mean_gap(void **state) {
     gfmd_sim_destroy(&s);
 }
 
+/* x3p (ISO 5436-2): zip archives written here with libzip the way instruments' software writes
+ * them -- main.xml with the axes, a binary data file it links (and a valid-points mask), or the
+ * data listed in the XML -- read back bit for bit (x3p's unit is the metre: heights and sizes in
+ * micrometres are the products the test computes); damaged and lying archives refused with
+ * GFMD_ERR_FORMAT; in a build without libzip and libxml2 every x3p file is refused with
+ * GFMD_ERR_STATE and a message saying how to build it in. */
+#ifdef GFMD_TEST_X3P
+static const char *x3p_xml(char *buf, size_t n, const char *feature, const char *zt, double zinc, int nx, int ny,
+                           const char *record3_data) {
+    snprintf(buf, n,
+             "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+             "<p:ISO5436_2 xmlns:p=\"http://www.opengps.eu/2008/ISO5436_2\">\n"
+             " <Record1><Revision>ISO5436 - 2000</Revision><FeatureType>%s</FeatureType>\n"
+             "  <Axes>\n"
+             "   <CX><AxisType>I</AxisType><DataType>D</DataType><Increment>2.5e-07</Increment><Offset>0</Offset></CX>\n"
+             "   <CY><AxisType>I</AxisType><DataType>D</DataType><Increment>5e-07</Increment><Offset>0</Offset></CY>\n"
+             "   <CZ><AxisType>A</AxisType><DataType>%s</DataType><Increment>%.17g</Increment><Offset>1e-06</Offset></CZ>\n"
+             "  </Axes></Record1>\n"
+             " <Record2><Date>2026-12-07T12:00:00</Date><Instrument><Manufacturer>test</Manufacturer></Instrument></Record2>\n"
+             " <Record3><MatrixDimension><SizeX>%d</SizeX><SizeY>%d</SizeY><SizeZ>1</SizeZ></MatrixDimension>\n"
+             "  %s\n"
+             " </Record3>\n"
+             " <Record4><ChecksumFile>md5checksum.hex</ChecksumFile></Record4>\n"
+             "</p:ISO5436_2>\n",
+             feature, zt, zinc, nx, ny, record3_data);
+    return buf;
+}
+
+/* A zip of (name, bytes, length) members written to path. */
+static void write_zip(const char *path, int members, const char *const *names, const void *const *data,
+                      const size_t *lengths) {
+    int err = 0;
+    zip_t *z = zip_open(path, ZIP_CREATE | ZIP_TRUNCATE, &err);
+    assert_non_null(z);
+    for (int i = 0; i < members; ++i) {
+        zip_source_t *src = zip_source_buffer(z, data[i], lengths[i], 0);
+        assert_non_null(src);
+        assert_true(zip_file_add(z, names[i], src, ZIP_FL_OVERWRITE) >= 0);
+    }
+    assert_int_equal(zip_close(z), 0);
+}
+
+static void x3p_files(void **state) {
+    (void)state;
+    assert_int_equal(gfmd_topo_format_supported(GFMD_TOPO_X3P), 1);
+    assert_int_equal(gfmd_topo_format_supported(GFMD_TOPO_NPY), 1);
+    assert_int_equal(gfmd_topo_format_supported(99), 0);
+    enum { NX = 5, NY = 3, N = NX * NY };
+    static char xml[4096];
+    /* doubles, with a mask that drops point 7 */
+    double d[N];
+    for (int i = 0; i < N; ++i) d[i] = 1e-7 * (i * i - 3 * i) / 7.0;
+    const unsigned char valid[2] = {0x7f, 0xff}; /* bit 7 of byte 0: point 7 invalid */
+    x3p_xml(xml, sizeof xml, "SUR", "D", 1.0, NX, NY,
+            "<DataLink><PointDataLink>bin/data.bin</PointDataLink><ValidPointsLink>bin/valid.bin</ValidPointsLink></DataLink>");
+    {
+        const char *names[3] = {"main.xml", "bin/data.bin", "bin/valid.bin"};
+        const void *data[3] = {xml, d, valid};
+        const size_t len[3] = {strlen(xml), sizeof d, sizeof valid};
+        write_zip("topo.x3p", 3, names, data, len);
+    }
+    gfmd_topo *t = NULL;
+    char msg[512] = "";
+    assert_int_equal(gfmd_topo_read("topo.x3p", GFMD_TOPO_AUTO, 1e-6, &t, msg, sizeof msg), GFMD_OK);
+    expect_grid(t, NX, NY, NX * 2.5e-7 / 1e-6, NY * 5e-7 / 1e-6, GFMD_TOPO_X3P, 1, 1);
+    double h[N];
+    assert_int_equal(gfmd_topo_get_heights(t, h), GFMD_OK);
+    for (int i = 0; i < N; ++i) {
+        if (i == 7) assert_true(isnan(h[i]));
+        else assert_true(h[i] == (1e-06 + 1.0 * d[i]) / 1e-6);
+    }
+    gfmd_topo_destroy(&t);
+
+    /* int16 counts of 2 nm, little-endian, a profile-shaped SUR of 5 x 3 */
+    unsigned char counts[2 * N];
+    for (int i = 0; i < N; ++i) {
+        const int16_t c = (int16_t)(300 * i - 2000);
+        counts[2 * i] = (unsigned char)((uint16_t)c & 0xff);
+        counts[2 * i + 1] = (unsigned char)((uint16_t)c >> 8);
+    }
+    x3p_xml(xml, sizeof xml, "SUR", "I", 2e-9, NX, NY, "<DataLink><PointDataLink>bin/data.bin</PointDataLink></DataLink>");
+    {
+        const char *names[2] = {"main.xml", "bin/data.bin"};
+        const void *data[2] = {xml, counts};
+        const size_t len[2] = {strlen(xml), sizeof counts};
+        write_zip("topo_i.x3p", 2, names, data, len);
+        assert_int_equal(gfmd_topo_read("topo_i.x3p", GFMD_TOPO_X3P, 1e-9, &t, msg, sizeof msg), GFMD_OK);
+        assert_int_equal(gfmd_topo_get_heights(t, h), GFMD_OK);
+        for (int i = 0; i < N; ++i) assert_true(h[i] == (1e-06 + 2e-9 * (300.0 * i - 2000.0)) / 1e-9);
+        gfmd_topo_destroy(&t);
+        /* the data one value short: refused before reading past it */
+        const size_t cut[2] = {strlen(xml), sizeof counts - 2};
+        write_zip("topo_short.x3p", 2, names, data, cut);
+        read_fails("topo_short.x3p", GFMD_TOPO_AUTO, GFMD_ERR_FORMAT, "need");
+        /* a header claiming 2^30 x 2^10 points over 30 bytes of data */
+        x3p_xml(xml, sizeof xml, "SUR", "I", 2e-9, 1 << 30, 1 << 10, "<DataLink><PointDataLink>bin/data.bin</PointDataLink></DataLink>");
+        const size_t len2[2] = {strlen(xml), sizeof counts};
+        write_zip("topo_lie.x3p", 2, names, data, len2);
+        read_fails("topo_lie.x3p", GFMD_TOPO_AUTO, GFMD_ERR_FORMAT, "need");
+        /* a point cloud, and a linked member that is not there */
+        x3p_xml(xml, sizeof xml, "PCL", "I", 2e-9, NX, NY, "<DataLink><PointDataLink>bin/data.bin</PointDataLink></DataLink>");
+        write_zip("topo_pcl.x3p", 2, names, data, len);
+        read_fails("topo_pcl.x3p", GFMD_TOPO_AUTO, GFMD_ERR_FORMAT, "FeatureType");
+        x3p_xml(xml, sizeof xml, "SUR", "I", 2e-9, NX, NY, "<DataLink><PointDataLink>bin/other.bin</PointDataLink></DataLink>");
+        write_zip("topo_nolink.x3p", 2, names, data, len2);
+        read_fails("topo_nolink.x3p", GFMD_TOPO_AUTO, GFMD_ERR_FORMAT, "no member");
+    }
+    /* the data listed in the XML (an empty datum is an invalid point) */
+    char list[1024] = "<DataList>";
+    for (int i = 0; i < N; ++i) {
+        char one[64];
+        snprintf(one, sizeof one, i == 3 ? "<Datum></Datum>" : "<Datum>%d.5e-8</Datum>", i);
+        strcat(list, one);
+    }
+    strcat(list, "</DataList>");
+    x3p_xml(xml, sizeof xml, "SUR", "D", 1.0, NX, NY, list);
+    {
+        const char *names[1] = {"main.xml"};
+        const void *data[1] = {xml};
+        const size_t len[1] = {strlen(xml)};
+        write_zip("topo_list.x3p", 1, names, data, len);
+        assert_int_equal(gfmd_topo_read("topo_list.x3p", GFMD_TOPO_AUTO, 1.0, &t, msg, sizeof msg), GFMD_OK);
+        assert_int_equal(gfmd_topo_get_heights(t, h), GFMD_OK);
+        for (int i = 0; i < N; ++i) {
+            char expect[32];
+            snprintf(expect, sizeof expect, "%d.5e-8", i);
+            if (i == 3) assert_true(isnan(h[i]));
+            else assert_true(h[i] == 1e-06 + 1.0 * strtod(expect, NULL));
+        }
+        gfmd_topo_destroy(&t);
+        /* not XML, and no main.xml at all */
+        const char junk[] = "<p:ISO5436_2><Record1>";
+        const void *jd[1] = {junk};
+        const size_t jl[1] = {sizeof junk - 1};
+        write_zip("topo_junk.x3p", 1, names, jd, jl);
+        read_fails("topo_junk.x3p", GFMD_TOPO_AUTO, GFMD_ERR_FORMAT, "XML");
+        const char *other[1] = {"readme.txt"};
+        write_zip("topo_noxml.x3p", 1, other, jd, jl);
+        read_fails("topo_noxml.x3p", GFMD_TOPO_AUTO, GFMD_ERR_FORMAT, "main.xml");
+    }
+    /* a zip cut in half: its central directory gone */
+    FILE *f = fopen("topo.x3p", "rb");
+    assert_non_null(f);
+    unsigned char whole[8192];
+    const size_t n = fread(whole, 1, sizeof whole, f);
+    fclose(f);
+    write_bytes("topo_cut.x3p", whole, n / 2);
+    read_fails("topo_cut.x3p", GFMD_TOPO_AUTO, GFMD_ERR_FORMAT, "zip");
+}
+#else
+static void x3p_files(void **state) {
+    (void)state;
+    assert_int_equal(gfmd_topo_format_supported(GFMD_TOPO_X3P), 0);
+    write_bytes("topo.x3p", "PK\x03\x04 not really a zip", 22);
+    read_fails("topo.x3p", GFMD_TOPO_AUTO, GFMD_ERR_STATE, "libzip");
+}
+#endif
+
 static void null_and_bad_arguments(void **state) {
     (void)state;
     gfmd_topo *t = NULL;
@@ -761,7 +923,7 @@ int main(void) {
         cmocka_unit_test(iso_surface_data_file), cmocka_unit_test(numpy_arrays),
         cmocka_unit_test(filling_missing_points), cmocka_unit_test(detrending),
         cmocka_unit_test(spectra_of_a_generated_surface), cmocka_unit_test(resampling),
-        cmocka_unit_test(null_and_bad_arguments), cmocka_unit_test(persson_mean_gap),
+        cmocka_unit_test(null_and_bad_arguments), cmocka_unit_test(persson_mean_gap), cmocka_unit_test(x3p_files),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -430,6 +430,9 @@ contains
     call sim%persson_contact_area(0.05_dp, sa)
     call check(abs(a / sa - 1) < 1e-12_dp, 'Persson''s area of the topography is the simulation''s')
     call g%persson_mean_gap(0.05_dp, mg)
+    call check(gfmd_topo_format_supported(GFMD_TOPO_GSF) .and. .not. gfmd_topo_format_supported(99) .and. &
+               (gfmd_topo_format_supported(GFMD_TOPO_X3P) .eqv. (c_gfmd_topo_format_supported(GFMD_TOPO_X3P) == 1)), &
+               'which formats this build reads')
     call check(c_gfmd_topo_persson_mean_gap(gfmd_topo_c_handle(g), GFMD_WINDOW_NONE, GFMD_GREEN_HALFSPACE, 0.0_dp, &
                                             0.0_dp, 1.0_dp, 0.05_dp, 0.45_dp, mgc) == 0 .and. mg == mgc .and. mg > 0, &
                'Persson''s mean gap: the module''s is the C API''s')
