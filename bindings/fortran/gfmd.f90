@@ -1202,6 +1202,25 @@ contains
 
   !> Persson's A/A0 at sigma0 from the topography's spectrum on a body (default: a half-space,
   !> E* = 1); variance optional.
+  !> The body and window of Persson's theory of a topography, the optional arguments defaulted:
+  !> a half-space, E* = 1, no window.
+  subroutine body_arguments(kind, width, nu, e_star, window, k, wd, n, e, w)
+    integer, intent(in), optional :: kind, window
+    real(dp), intent(in), optional :: width, nu, e_star
+    integer(c_int32_t), intent(out) :: k, w
+    real(c_double), intent(out) :: wd, n, e
+    k = GFMD_GREEN_HALFSPACE
+    if (present(kind)) k = int(kind, c_int32_t)
+    w = GFMD_WINDOW_NONE
+    if (present(window)) w = int(window, c_int32_t)
+    wd = 0
+    if (present(width)) wd = width
+    n = 0
+    if (present(nu)) n = nu
+    e = 1
+    if (present(e_star)) e = e_star
+  end subroutine body_arguments
+
   subroutine topo_persson_contact_area(self, sigma0, area, kind, width, nu, e_star, window, variance, stat, errmsg)
     class(gfmd_topo_t), intent(in) :: self
     real(dp), intent(in) :: sigma0
@@ -1213,16 +1232,7 @@ contains
     character(*), intent(out), optional :: errmsg
     integer(c_int32_t) :: k, w
     real(c_double) :: wd, n, e, v
-    k = GFMD_GREEN_HALFSPACE
-    if (present(kind)) k = int(kind, c_int32_t)
-    w = GFMD_WINDOW_NONE
-    if (present(window)) w = int(window, c_int32_t)
-    wd = 0
-    if (present(width)) wd = width
-    n = 0
-    if (present(nu)) n = nu
-    e = 1
-    if (present(e_star)) e = e_star
+    call body_arguments(kind, width, nu, e_star, window, k, wd, n, e, w)
     area = 0
     v = 0
     call topo_finish(self, c_gfmd_topo_persson_contact_area(self%ptr, w, k, wd, n, e, sigma0, area, v), &
@@ -1247,16 +1257,7 @@ contains
     character(*), intent(out), optional :: errmsg
     integer(c_int32_t) :: k, w
     real(c_double) :: wd, n, e, g
-    k = GFMD_GREEN_HALFSPACE
-    if (present(kind)) k = int(kind, c_int32_t)
-    w = GFMD_WINDOW_NONE
-    if (present(window)) w = int(window, c_int32_t)
-    wd = 0
-    if (present(width)) wd = width
-    n = 0
-    if (present(nu)) n = nu
-    e = 1
-    if (present(e_star)) e = e_star
+    call body_arguments(kind, width, nu, e_star, window, k, wd, n, e, w)
     g = 0.45_dp
     if (present(gamma)) g = gamma
     mean_gap = 0
