@@ -161,6 +161,14 @@ int main(int argc, char **argv) {
     /* plasticity: refused on several ranks, taken on one (and switched off again) */
     expect_everywhere(s, gfmd_set_hardness(s, 0.5), expect_whole, "gfmd_set_hardness");
     if (size == 1) OK(gfmd_set_hardness(s, INFINITY));
+    /* free boundaries: refused on a distributed handle on any number of ranks (the handle stays
+     * periodic); an unknown boundary is refused as an unknown value */
+    expect_everywhere(s, gfmd_set_boundary(s, GFMD_BOUNDARY_FREE), GFMD_ERR_STATE, "gfmd_set_boundary(FREE)");
+    expect_everywhere(s, gfmd_set_boundary(s, 9), GFMD_ERR_BAD_ENUM, "gfmd_set_boundary(9)");
+    int32_t boundary = -1;
+    OK(gfmd_get_boundary(s, &boundary));
+    CHECK(boundary == GFMD_BOUNDARY_PERIODIC, "the refused boundary was set");
+    expect_everywhere(s, gfmd_set_boundary(s, GFMD_BOUNDARY_PERIODIC), GFMD_OK, "gfmd_set_boundary(PERIODIC)");
     int64_t steps = 0, coarse = 0;
     expect_everywhere(s, gfmd_relax_multilevel(s, 1e-6, 100, 0, &steps, &coarse), GFMD_ERR_INVALID_ARG,
                       "multilevel start with 0 levels");
