@@ -103,7 +103,10 @@ static void hertz_two_resolutions(void **state) {
     const double p0 = 3.0 * force / (2.0 * M_PI * a_hertz * a_hertz), d = a_hertz * a_hertz / radius;
     double err_a[2], err_p[2], err_d[2];
     const int64_t sizes[2] = {32, 64};
-    for (int k = 0; k < 2; ++k) {
+    /* under valgrind the 32^2 region only (the 64^2 one, a 128^2 padded cell, runs the same calls
+     * at four times the cost); the native and sanitizer runs compare the two */
+    const int runs = ts_valgrind() ? 1 : 2;
+    for (int k = 0; k < runs; ++k) {
         const Hertz r = hertz(sizes[k], l, radius, force, e_star, GFMD_SOLVER_AUTO, 0, 0);
         err_a[k] = fabs(r.radius - a_hertz) / a_hertz;
         err_p[k] = fabs(r.p0 - p0) / p0;
@@ -117,9 +120,11 @@ static void hertz_two_resolutions(void **state) {
      * measured 1.7 % and 0.5 %).  The central pressure and the approach converge as (spacing/a)^2,
      * the error of the piecewise-constant pressure: within half of it (measured 0.36 % -> 0.09 %
      * and 0.11 % -> 0.02 %), and falling with the spacing. */
-    assert_true(err_a[0] < 0.5 / 8 && err_a[1] < 0.5 / 16);
-    assert_true(err_p[0] < 0.5 / 64 && err_p[1] < 0.5 / 256 && err_p[1] < err_p[0]);
-    assert_true(err_d[0] < 0.5 / 64 && err_d[1] < 0.5 / 256 && err_d[1] < err_d[0]);
+    assert_true(err_a[0] < 0.5 / 8 && err_p[0] < 0.5 / 64 && err_d[0] < 0.5 / 64);
+    if (runs == 1) return;
+    assert_true(err_a[1] < 0.5 / 16);
+    assert_true(err_p[1] < 0.5 / 256 && err_p[1] < err_p[0]);
+    assert_true(err_d[1] < 0.5 / 256 && err_d[1] < err_d[0]);
 }
 
 /* Boussinesq's field of the computed pressure, summed directly (no FFT, no images): the surface
