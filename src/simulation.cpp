@@ -682,11 +682,16 @@ bool Simulation::relax_from(double tol, int64_t max_steps, int64_t &steps_taken,
     return true;
 }
 
-// With free boundaries the observables are the region's: the padded cell's contacts all lie in
-// it (its padding is far below the surface), its fields are cropped.
+// With free boundaries the observables are the region's, its fields cropped.  Its contacts are
+// counted in the region: the padding lies far below the surface, but a diverging run (a step too
+// long for the body) can drive the surface through it, and the padded cell's count over the
+// region's points then exceeded 1.
 double Simulation::contact_area() const {
-    return free() ? static_cast<double>(forces_.contacts) / static_cast<double>(points())
-                  : gfmd::contact_area(grid_, forces_);
+    if (!free()) return gfmd::contact_area(grid_, forces_);
+    int64_t touching = 0;
+    for (int64_t y = 0; y < ry_; ++y)
+        for (int64_t x = 0; x < rx_; ++x) touching += fields_.z[at(x, y)] - fields_.h[at(x, y)] <= 0.0 ? 1 : 0;
+    return static_cast<double>(touching) / static_cast<double>(points());
 }
 double Simulation::mean_gap() const {
     if (!free()) return gfmd::mean_gap(grid_, fields_);
