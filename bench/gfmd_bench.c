@@ -15,6 +15,9 @@
  *                                nothing relaxed: the default's choice at each load and (--gaps)
  *                                mean position, with what its rule reads (S, f(q_min w), Persson's
  *                                A/A0, the fraction of the substrate above the mean position)
+ *   gfmd_bench --free [--sizes 256,512] [--loads 0.05,0.2]
+ *                                free boundaries (a half-space region on the zero-padded cell), with
+ *                                and without adhesion: the default (CG) against FIRE from flat
  *   gfmd_bench --multilevel [--sizes 256] [--widths 0.0625,0.125] [--sigma0 S] [--solver fire|mass]
  *                                gfmd_relax_multilevel with 1-4 levels from flat, to 1e-10
  *   gfmd_bench --first-load [--sizes 512,1024,2048] [--widths 0.0625,0.25] [--threads N] [--levels L] [--tol T]
@@ -387,6 +390,42 @@ static int multilevel_table(const double *sizes, int nsizes, const double *width
                 gfmd_get_contact_area(s, &area);
                 printf("%5d %6g | %8.5f | %6d %7lld %8lld | %.3f\n", n, widths[b], area, levels, (long long)steps,
                        (long long)coarse, t);
+                fflush(stdout);
+                gfmd_sim_destroy(&s);
+            }
+    return 0;
+}
+
+/* Free boundaries: the benchmark's substrate on an n x n region (the padded cell 2n x 2n), relaxed
+ * from flat by the default (CG) and by FIRE at each load, without and with adhesion (gamma0 =
+ * 5e-4 E* a, rho = a); one thread, default tolerance.  A time counts where both reach the same A/A0. */
+static int free_table(const double *sizes, int nsizes, const double *loads, int nloads) {
+    printf("gfmd %s: free boundaries, half-space, H = 0.8, lambda_s = 4a, lambda_r = n a/8, rms gradient 1, seed "
+           "2016, one thread, default tol, from flat\n", gfmd_version());
+    printf("%5s %7s %8s | %8s | %-6s %7s %8s | %-6s %7s %8s | %s\n", "n", "sigma0", "gamma0", "A/A0", "dflt", "steps",
+           "seconds", "alt", "steps", "seconds", "alt/dflt");
+    for (int a = 0; a < nsizes; ++a)
+        for (int b = 0; b < nloads; ++b)
+            for (int adhesive = 0; adhesive < 2; ++adhesive) {
+                const int n = (int)sizes[a];
+                gfmd_sim *s = bench_body(n, 0.0, loads[b], GFMD_SOLVER_AUTO);
+                int32_t st;
+                if ((st = gfmd_set_boundary(s, GFMD_BOUNDARY_FREE)) != GFMD_OK) die(s, st, "boundary");
+                if ((st = gfmd_generate_selfaffine(s, substrate_hurst, n / substrate_ratio, substrate_lambda_s, 1.0,
+                                                   substrate_seed, GFMD_DIST_UNIFORM)) != GFMD_OK)
+                    die(s, st, "substrate");
+                const double gamma0 = adhesive ? 5e-4 : 0.0;
+                if (adhesive && (st = gfmd_set_adhesion(s, gamma0, 1.0)) != GFMD_OK) die(s, st, "adhesion");
+                double area[2] = {0.0, 0.0};
+                const gfmd_run d = timed_relax(s, GFMD_SOLVER_AUTO, loads[b], NAN);
+                gfmd_get_contact_area(s, &area[0]);
+                const gfmd_run f = timed_relax(s, GFMD_SOLVER_FIRE, loads[b], NAN);
+                gfmd_get_contact_area(s, &area[1]);
+                const int agree = fabs(area[0] - area[1]) <= 1e-3 * area[0] && d.converged && f.converged;
+                printf("%5d %7g %8g | %8.5f | %-6s %7lld %8.3f | %-6s %7lld %8.3f | ", n, loads[b], gamma0, area[0],
+                       solver_name(d.active), (long long)d.steps, d.seconds, "FIRE", (long long)f.steps, f.seconds);
+                if (agree) printf("%.2f\n", f.seconds / d.seconds);
+                else printf("(A/A0 %.5f: not the same state)\n", area[1]);
                 fflush(stdout);
                 gfmd_sim_destroy(&s);
             }
@@ -1093,7 +1132,7 @@ int main(int argc, char **argv) {
     int choices = 0, nchoice_loads = 0, ngaps = 0, random_bodies = 0;
     unsigned long long random_seed = 1;
     double cg_seconds = 120.0, sigma0 = 0.05, bonded_nu = NAN, first_tol = 0.0, sweep_from = 0.0, sweep_to = 1.0, below = 1.0;
-    int levels = 3, levers = 15, columns = 63, substrate_given = 0;
+    int levels = 3, levers = 15, columns = 63, substrate_given = 0, free_mode = 0;
     int32_t solver = GFMD_SOLVER_AUTO;
     for (int i = 1; i < argc; ++i) {
         if (!strcmp(argv[i], "--sizes") && i + 1 < argc) nsizes = parse_list(argv[++i], sizes, 7), sizes_given = 1;
@@ -1131,6 +1170,7 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--choices") && i + 1 < argc) nchoice_loads = parse_list(argv[++i], choice_loads, 8), choices = 1;
         else if (!strcmp(argv[i], "--gaps") && i + 1 < argc) ngaps = parse_list(argv[++i], gaps, 8);
         else if (!strcmp(argv[i], "--multilevel")) multilevel = 1;
+        else if (!strcmp(argv[i], "--free")) free_mode = 1;
         else if (!strcmp(argv[i], "--random") && i + 1 < argc) random_bodies = atoi(argv[++i]), random_bodies = random_bodies > 0 ? random_bodies : -1;
         else if (!strcmp(argv[i], "--seed") && i + 1 < argc) random_seed = strtoull(argv[++i], NULL, 10);
         else if (!strcmp(argv[i], "--adhesion")) adhesion = 1;
@@ -1219,6 +1259,11 @@ int main(int argc, char **argv) {
         return sweep_table(sizes_given ? sizes : sweep_sizes, sizes_given ? nsizes : 1,
                            widths_given ? widths : sweep_widths, widths_given ? nwidths : 3, threads < 1 ? 1 : threads, adhesion, cg,
                            verbose, sweep_from, sweep_to, columns);
+    }
+    if (free_mode) {
+        const double free_sizes[2] = {256, 512}, free_loads[2] = {0.05, 0.2};
+        return free_table(sizes_given ? sizes : free_sizes, sizes_given ? nsizes : 2, nloads > 0 ? loads : free_loads,
+                          nloads > 0 ? nloads : 2);
     }
     if (nloads > 0) return loads_table(sizes, nsizes, widths, nwidths, loads, nloads);
     if (multilevel) return multilevel_table(sizes, nsizes, widths, nwidths, sigma0, solver);
