@@ -134,6 +134,14 @@ double boussinesq_cell(double x, double y, double ax, double ay, double e_star) 
 Body make_free_body(const FftGrid &grid, double e_star) {
     const int64_t nx = grid.nx(), ny = grid.ny(), nxh = grid.nxh();
     const double ax = grid.lx() / static_cast<double>(nx), ay = grid.ly() / static_cast<double>(ny);
+    // The kernel in units of the spacing ax and of E* (K(x, y) = ax/E* K_1(x/ax, y/ax)): its values
+    // are those of the grid's shape, whatever the lengths and the modulus; their scale is applied
+    // last, where a product that leaves the doubles is the caller's range (a modulus of 1e-310
+    // made the kernel itself infinite).
+    const double aspect = ay / ax, scale = e_star / ax;  // stiffness = scale / K_1(q)
+    if (!(aspect > 0.0) || !std::isfinite(aspect) || !(scale > 0.0) || !std::isfinite(scale))
+        fail(GFMD_ERR_RANGE, "the free-boundary stiffness leaves the doubles: E* over the grid spacing, or the "
+                             "spacings' ratio, is too large or too small");
     RealBuffer kernel(static_cast<std::size_t>(grid.local_points()));
     ComplexBuffer modes(static_cast<std::size_t>(grid.local_mode_rows() * nxh));
     // offsets in [-n/2, n/2): the one at -n/2 stands for both signs (only offsets below n/2 reach
@@ -142,7 +150,7 @@ Body make_free_body(const FftGrid &grid, double e_star) {
     for (int64_t y = 0; y < ny; ++y)
         for (int64_t x = 0; x < nx; ++x)
             kernel[static_cast<std::size_t>(y * nx + x)] =
-                boussinesq_cell(offset(x, nx) * ax, offset(y, ny) * ay, ax, ay, e_star);
+                boussinesq_cell(offset(x, nx), offset(y, ny) * aspect, 1.0, aspect, 1.0);
     grid.forward(kernel.data(), modes.data());
     Body b;
     b.stiffness = RealBuffer(modes.size());
@@ -150,18 +158,20 @@ Body make_free_body(const FftGrid &grid, double e_star) {
     for (std::size_t c = 0; c < modes.size(); ++c) {
         const double k = modes[c].real();  // the kernel is even in x and y: K(q) is real
         if (!(k > 0.0) || !std::isfinite(k))
-            fail(GFMD_ERR_INTERNAL, "the free-boundary compliance is not positive at one wave vector");
+            fail(GFMD_ERR_RANGE, "the free-boundary compliance is not positive at one wave vector: the spacings' "
+                                 "ratio is too far from 1");
         if (c == 0) {
-            b.compliance0 = k;
+            b.compliance0 = k / scale;
             b.stiffness[c] = 0.0;  // the uniform mode: the load on the cell moves the body as a whole
             continue;
         }
-        b.stiffness[c] = 1.0 / k;
+        b.stiffness[c] = scale / k;
         b.k_min = std::min(b.k_min, b.stiffness[c]);
         b.k_max = std::max(b.k_max, b.stiffness[c]);
     }
-    if (!std::isfinite(b.k_max) || !(b.k_min > 0.0))
-        fail(GFMD_ERR_RANGE, "the free-boundary stiffness overflows: E* is too large for this grid");
+    if (!std::isfinite(b.k_max) || !(b.k_min > 0.0) || !std::isfinite(b.compliance0))
+        fail(GFMD_ERR_RANGE, "the free-boundary stiffness leaves the doubles: E* is too large or too small for this "
+                             "grid");
     return b;
 }
 

@@ -5,6 +5,7 @@
  * computed pressure summed directly by the test (Love's uniformly loaded rectangle, independent of
  * the library's FFTs), against periodic cells of growing size, and for every refusal and the
  * checkpoint. */
+#include <float.h>
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -323,6 +324,10 @@ static int32_t persson_area(gfmd_sim *s) {
     return gfmd_persson_contact_area(s, 0.1, &v);
 }
 static int32_t boundary_null(gfmd_sim *s) { return gfmd_get_boundary(s, NULL); }
+/* moduli whose stiffness over the grid's spacing leaves the doubles (a denormal one made the
+ * kernel infinite, reported as an internal error) */
+static int32_t tiny_modulus(gfmd_sim *s) { return gfmd_set_modulus(s, 1e-310); }
+static int32_t huge_modulus(gfmd_sim *s) { return gfmd_set_modulus(s, DBL_MAX); }
 
 static void refusals_change_nothing(void **state) {
     (void)state;
@@ -342,6 +347,8 @@ static void refusals_change_nothing(void **state) {
         {"Persson's variance", GFMD_ERR_STATE, persson},
         {"Persson's A/A0", GFMD_ERR_STATE, persson_area},
         {"the boundary into NULL", GFMD_ERR_NULL, boundary_null},
+        {"a denormal modulus", GFMD_ERR_RANGE, tiny_modulus},
+        {"the largest modulus", GFMD_ERR_RANGE, huge_modulus},
     };
     gfmd_sim *a = free_twin(), *b = free_twin();
     same(a, b, "creation");
