@@ -6,9 +6,10 @@
 # The MPI library (GFMD_BUILD_MPI) is built and tested in the release build and under ASan + UBSan
 # (with leak checks, Open MPI's own allocations suppressed: cmake/GfmdMpi.cmake); the
 # ThreadSanitizer and valgrind runs cover the serial library.
-# Each phase's build runs in the background, at the lowest priority, while the phase before it
-# tests: a ctest leaves a core idle for tens of seconds (its serial tests, its last long ones),
-# which the build takes; the tests keep the cores whenever they want them (no test times itself).
+# The sanitizer, ThreadSanitizer and fuzzer builds run in the background, at the lowest priority,
+# from the release build's start: a build or a ctest leaves a core idle for tens of seconds (its
+# links, its serial tests, its last long ones), which they take; the foreground keeps the cores
+# whenever it wants them (no test times itself).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 jobs="$(nproc)"
@@ -67,10 +68,6 @@ build_wait() {
   echo "build $1: done [at $(elapsed)]"
 }
 
-echo "== release build: the test suite (with libgfmd_mpi and its tests under mpiexec) [at $(elapsed)]"
-cmake -S "$root" -B "$root/build" -DCMAKE_BUILD_TYPE=Release -DGFMD_BUILD_MPI=ON >/dev/null
-cmake --build "$root/build" -j "$jobs"
-if [ "${1:-}" = "--quick" ]; then run_ctest "$root/build"; summary; exit $?; fi
 # (the build functions chain their commands with &&: set -e does not act in a function called
 # from the left of ||, as in_background calls them)
 # The sanitizer builds with -g1, not Debug's -g: the reports keep their functions, files and lines
@@ -82,20 +79,39 @@ sanitize_build() {
   cmake -S "$root" -B "$root/build-sanitize" -DCMAKE_BUILD_TYPE=Debug "${debug_flags[@]}" -DGFMD_SANITIZE=ON -DGFMD_BUILD_MPI=ON &&
     cmake --build "$root/build-sanitize" -j "$jobs"
 }
-echo "== the AddressSanitizer + UndefinedBehaviorSanitizer build begins in the background [at $(elapsed)]"
-in_background sanitize 19 sanitize_build
-run_ctest "$root/build"
-
-echo "== AddressSanitizer + UndefinedBehaviorSanitizer build: the test suite [at $(elapsed)]"
-build_wait sanitize
 tsan_build() {
   cmake -S "$root" -B "$root/build-tsan" -DCMAKE_BUILD_TYPE=Debug "${debug_flags[@]}" -DGFMD_TSAN=ON -DGFMD_BUILD_FORTRAN=OFF \
     -DGFMD_BUILD_EXAMPLES=OFF -DGFMD_BUILD_BENCHMARK=OFF &&
     cmake --build "$root/build-tsan" -j "$jobs" --target test_threads &&
     "$root/scripts/fuzz.sh" --build
 }
-echo "== the ThreadSanitizer and fuzzer builds begin in the background [at $(elapsed)]"
-in_background tsan_fuzz 19 tsan_build
+# The sanitizer builds, one after the other, in the background at the lowest priority from the
+# start: they take what the release build and the ctests leave idle (a link, a serial test).
+# Each writes its own log and status, which build_wait reads.
+background_builds() {
+  local status
+  for name in sanitize tsan_fuzz; do
+    status=0
+    if [ "$name" = sanitize ]; then sanitize_build; else tsan_build; fi >"$root/build/$name.log" 2>&1 || status=$?
+    echo "$status" >"$root/build/$name.status"
+    [ "$status" = 0 ] || { [ "$name" = sanitize ] && echo 1 >"$root/build/tsan_fuzz.status"; break; }
+  done
+}
+echo "== release build: the test suite (with libgfmd_mpi and its tests under mpiexec) [at $(elapsed)]"
+cmake -S "$root" -B "$root/build" -DCMAKE_BUILD_TYPE=Release -DGFMD_BUILD_MPI=ON >/dev/null
+if [ "${1:-}" != "--quick" ]; then
+  rm -f "$root/build/sanitize.status" "$root/build/tsan_fuzz.status"
+  echo "== the sanitizer and fuzzer builds begin in the background [at $(elapsed)]"
+  in_background builds 19 background_builds
+  build_pid[sanitize]=${build_pid[builds]}
+  build_pid[tsan_fuzz]=${build_pid[builds]}
+fi
+cmake --build "$root/build" -j "$jobs"
+if [ "${1:-}" = "--quick" ]; then run_ctest "$root/build"; summary; exit $?; fi
+run_ctest "$root/build"
+
+echo "== AddressSanitizer + UndefinedBehaviorSanitizer build: the test suite [at $(elapsed)]"
+build_wait sanitize
 run_ctest "$root/build-sanitize"
 build_wait tsan_fuzz
 
