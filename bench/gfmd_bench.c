@@ -25,7 +25,9 @@
  *                                a thin sheet's first load from flat, with and without adhesion
  *                                (--adhesion: with only; --no-adhesion: without only), by FIRE,
  *                                mass-weighted FIRE, the multilevel start (named by the solver
- *                                its finest grid took) and the default solver (--levers: those only)
+ *                                its finest grid took) and the default solver (--levers: those only),
+ *                                beside a half-space on the same substrate and load (its seconds the
+ *                                /hs column's unit)
  *   gfmd_bench --sweep [--sizes 2048] [--widths 0.25,1,100] [--threads N]
  *        [--adhesion] [--no-cg] [--verbose] [--from A] [--to A] [--columns fire,m+fire,mass,cg,newton,auto]
  *        [--substrate H,LS,R,SEED]
@@ -635,9 +637,31 @@ static int first_load_table(const double *sizes, int nsizes, const double *width
     printf("gfmd %s: a thin sheet's first load from flat (Persson A/A0 = 0.004), fluid foundation (w = 4 W a), "
            "H = 0.8, lambda_s = 4a, lambda_r = n a/8, g = 1, seed 2016, %d thread(s), tol %.0e\n",
            gfmd_version(), threads, tol);
-    printf("%5s %7s %4s %-13s | %8s | %7s %8s | %7s %8s\n", "n", "W", "adh", "lever", "A/A0", "steps", "s", "to 0.1%",
-           "s");
-    for (int a = 0; a < nsizes; ++a)
+    printf("%5s %7s %4s %-13s | %8s | %7s %8s | %7s %8s | %s\n", "n", "W", "adh", "lever", "A/A0", "steps", "s",
+           "to 0.1%", "s", "/hs");
+    for (int a = 0; a < nsizes; ++a) {
+        /* the reference: a half-space on the same substrate and grid at the same Persson A/A0, by
+         * the default, from flat (W = 0 rows); "/hs" is each row's seconds over its one */
+        double hs[2] = {0.0, 0.0};
+        for (int adh = adhesive_only; adh < (plain_only ? 1 : 2); ++adh) {
+            const int n = (int)sizes[a];
+            gfmd_sim *s = bench_body(n, 0.0, 0.01, GFMD_SOLVER_AUTO);
+            int32_t st = gfmd_set_threads(s, threads);
+            if (st == GFMD_OK && adh) st = gfmd_set_adhesion(s, 5e-4, 1.0);
+            const double load = persson_load(s, 0.004);
+            if (st == GFMD_OK) st = gfmd_reset(s);
+            if (st != GFMD_OK) die(s, st, "first-load half-space");
+            const gfmd_run g = timed_relax_to(s, GFMD_SOLVER_AUTO, load, NAN, tol, 4000000);
+            double area = 0.0;
+            gfmd_get_contact_area(s, &area);
+            hs[adh] = g.seconds;
+            char what[32];
+            snprintf(what, sizeof what, "hs %s", solver_name(g.active));
+            printf("%5d %7g %4s %-13s | %8.*f | %7lld %8.2f | %7s %8s | %.2f\n", n, 0.0, adh ? "yes" : "no", what, digits,
+                   area, (long long)g.steps, g.seconds, "-", "-", 1.0);
+            fflush(stdout);
+            gfmd_sim_destroy(&s);
+        }
         for (int b = 0; b < nwidths; ++b)
             for (int adh = adhesive_only; adh < (plain_only ? 1 : 2); ++adh)
                 for (int lever = 0; lever < 4; ++lever) {
@@ -681,11 +705,12 @@ static int first_load_table(const double *sizes, int nsizes, const double *width
                     char what[32];
                     if (lever == 2) snprintf(what, sizeof what, "ml%d+%s", levels, solver_name(active));
                     else snprintf(what, sizeof what, "%s", solver_name(active));
-                    printf("%5d %7g %4s %-13s | %8.*f | %7s %8.2f | %7s %8s\n", n, widths[b], adh ? "yes" : "no", what,
-                           digits, area, total, t, acc_steps, acc_s);
+                    printf("%5d %7g %4s %-13s | %8.*f | %7s %8.2f | %7s %8s | %.1f\n", n, widths[b], adh ? "yes" : "no",
+                           what, digits, area, total, t, acc_steps, acc_s, hs[adh] > 0.0 ? t / hs[adh] : 0.0);
                     fflush(stdout);
                     gfmd_sim_destroy(&s);
                 }
+    }
     return 0;
 }
 

@@ -23,13 +23,23 @@ bool newton_takes(const ChoiceFeatures &f, const ChoiceRule &r) {
     return f.newton_grid && f.points >= r.newton_points && f.persson_area < r.newton_area;
 }
 
+// A thin sheet's first load from flat at few contacts: the Newton method, whose steps hardly grow
+// in number as the contacts thin out, where the CG's and FIRE's do (from the grids on which the
+// thin sheets leave the CG).
+bool newton_from_flat(const ChoiceFeatures &f, const ChoiceRule &r) {
+    return f.flat && f.newton_grid && f.points >= r.thin_soft_points && f.persson_area > 0.0 &&
+           f.persson_area < r.newton_flat_area;
+}
+
 // A layer on a fluid foundation under pressure control without adhesion: the preconditioned
-// surface CG, but on a load that continues from a deformed surface on large grids (and on thin
-// soft sheets from 128^2 on) FIRE's family or the Newton method.
+// surface CG, but on a thin sheet's first load at few contacts the Newton method, and on a load
+// that continues from a deformed surface on large grids (and on thin soft sheets from 128^2 on)
+// FIRE's family or the Newton method.
 int32_t fluid_layer(const ChoiceFeatures &f, const ChoiceRule &r) {
     const bool thin = f.grid_thickness < r.thin;
     const bool thin_soft = thin && f.points >= r.thin_soft_points && f.longest_wave >= r.thin_soft_wave &&
                            f.rough_thickness < r.thin_soft_rough;
+    if (thin && newton_from_flat(f, r)) return GFMD_SOLVER_NEWTON;
     if (!(f.points >= r.continue_points || thin_soft) || f.flat) return GFMD_SOLVER_CG;
     if (!thin) {
         if (f.longest_wave >= r.middle_wave) return GFMD_SOLVER_CG;
@@ -49,7 +59,7 @@ int32_t adhesive_fluid_layer(const ChoiceFeatures &f, const ChoiceRule &r) {
     const double thickness = std::min(f.grid_thickness, f.rough_thickness);
     if (thickness >= r.adhesive_thin) return GFMD_SOLVER_CG;
     const bool soft = f.longest_wave >= r.adhesive_soft_wave;
-    if (soft && !f.flat && newton_takes(f, r)) return GFMD_SOLVER_NEWTON;
+    if (soft && (f.flat ? newton_from_flat(f, r) : newton_takes(f, r))) return GFMD_SOLVER_NEWTON;
     if (!soft || !(f.persson_area < r.adhesive_low_area)) return GFMD_SOLVER_FIRE;
     const bool mass = thickness < r.adhesive_thinner || f.persson_area < r.adhesive_mass_area;
     return mass ? GFMD_SOLVER_MASS_WEIGHTED_FIRE : GFMD_SOLVER_APPROACH_THEN_FIRE;

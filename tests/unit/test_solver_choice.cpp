@@ -147,6 +147,19 @@ std::vector<Row> rows() {
 
     // layer on a fluid foundation, no adhesion
     add("fluid layer, first load", with(thin_sheet(), [](ChoiceFeatures &f) { f.flat = true; }), GFMD_SOLVER_CG);
+    // newton_flat_area: a thin sheet's first load at few contacts, from thin_soft_points on
+    const auto few = [&](ChoiceFeatures &f) { f.flat = true; f.persson_area = below(R.newton_flat_area); };
+    add("newton_flat_area: just below", with(thin_sheet(), few), GFMD_SOLVER_NEWTON);
+    add("newton_flat_area: at it", with(thin_sheet(), [&](ChoiceFeatures &f) {
+            f.flat = true; f.persson_area = R.newton_flat_area; }), GFMD_SOLVER_CG);
+    add("newton_flat_area: no load", with(thin_sheet(), [&](ChoiceFeatures &f) {
+            f.flat = true; f.persson_area = 0.0; }), GFMD_SOLVER_CG);
+    add("newton_flat_area: below thin_soft_points", with(with(thin_sheet(), few), [&](ChoiceFeatures &f) {
+            f.points = below(R.thin_soft_points); }), GFMD_SOLVER_CG);
+    add("newton_flat_area: a grid Newton does not take", with(with(thin_sheet(), few), [](ChoiceFeatures &f) {
+            f.newton_grid = false; }), GFMD_SOLVER_CG);
+    add("newton_flat_area: not thin", with(with(thin_sheet(), few), [&](ChoiceFeatures &f) {
+            f.grid_thickness = R.thin; }), GFMD_SOLVER_CG);
     add("thin sheet below continue_points, not soft", with(thin_sheet(), [&](ChoiceFeatures &f) {
             f.points = below(R.continue_points); f.longest_wave = below(R.thin_soft_wave); }), GFMD_SOLVER_CG);
     // thin soft sheets below continue_points: each of the four conditions on its own
@@ -237,6 +250,11 @@ std::vector<Row> rows() {
         GFMD_SOLVER_NEWTON);
     add("adhesive Newton: flat start", with(adhesive_sheet(), [](ChoiceFeatures &f) {
             f.newton_grid = true; f.flat = true; }), GFMD_SOLVER_APPROACH_THEN_FIRE);
+    add("adhesive Newton: flat start below newton_flat_area", with(adhesive_sheet(), [&](ChoiceFeatures &f) {
+            f.newton_grid = true; f.flat = true; f.persson_area = below(R.newton_flat_area); }), GFMD_SOLVER_NEWTON);
+    add("adhesive Newton: flat start below newton_flat_area, stiff long wave", with(adhesive_sheet(), [&](ChoiceFeatures &f) {
+            f.newton_grid = true; f.flat = true; f.persson_area = below(R.newton_flat_area);
+            f.longest_wave = below(R.adhesive_soft_wave); }), GFMD_SOLVER_FIRE);
     add("adhesive Newton: newton_area at it", with(adhesive_sheet(), [&](ChoiceFeatures &f) {
             f.newton_grid = true; f.persson_area = R.newton_area; }), GFMD_SOLVER_FIRE);
     add("adhesive Newton: stiff long wave", with(adhesive_sheet(), [&](ChoiceFeatures &f) {
