@@ -163,8 +163,9 @@ void prolong_rows(int64_t m, const float *c, float *f, const unsigned char *held
 
 double StencilMultigrid::bytes_per_point() {
     // fine: 5 floats, the held copy and the dirty marks; coarse levels (1/3 of the points in all):
-    // 13 coefficients and 5 vectors as floats, the dirty marks; the changed list (1/16 of int64)
-    return 5 * 4.0 + 2.0 + (kStored + 5) * 4.0 / 3.0 + 1.0 / 3.0 + 8.0 / 16.0;
+    // 13 coefficients and 5 vectors as floats, the dirty and special marks; the changed list (1/16
+    // of int64)
+    return 5 * 4.0 + 2.0 + (kStored + 5) * 4.0 / 3.0 + 2.0 / 3.0 + 8.0 / 16.0;
 }
 
 StencilMultigrid::StencilMultigrid(int64_t m) : held_(static_cast<std::size_t>(m * m)) {
@@ -179,6 +180,7 @@ StencilMultigrid::StencilMultigrid(int64_t m) : held_(static_cast<std::size_t>(m
         L.t = AlignedBuffer<float>(mm);
         L.dinv = AlignedBuffer<float>(mm);
         L.dirty = AlignedBuffer<unsigned char>(mm);
+        if (s < m) L.special = AlignedBuffer<unsigned char>(mm);
         lv_.push_back(std::move(L));
     }
     changed_.reserve(static_cast<std::size_t>(m * m / 16 + 1));
@@ -257,27 +259,111 @@ void StencilMultigrid::fine_weight(int64_t y, int64_t x) {
     lv_[0].dinv.data()[y * lv_[0].m + x] = static_cast<float>(s > 0.0 ? 1.0 / s : 0.0);
 }
 
-// row (Y, X) of level l + 1's operator, P^T A_l P, and its weight: the fine points 2Y + a (a = -1,
-// 0, 1, weights 1/2, 1, 1/2 in each direction), their neighbours j = 2Y + a + d (d = -2..2) spread
-// to the coarse points (j +- 1) / 2 or j / 2 (weights 1/2 or 1): offsets -2..2
+namespace {
+// The terms of a coarse row P^T A P (coarse_row): the fine points 2Y + a (a = -1, 0, 1, weights
+// 1/2, 1, 1/2 in each direction), their neighbours j = 2Y + a + d (d = -2..2) spread to the coarse
+// points (j +- 1) / 2 or j / 2 (weights 1/2 or 1): offsets -2..2.  Grouped by source, the pair
+// (fine point, offset), in the order (a, b, dy, dx), and within it by (ky, kx); a term's weight is
+// a product of powers of 2 (exact: the same bits as multiplying them into the entry one by one).
+struct GalerkinTerm {
+    unsigned char target;  // the coarse offset's (oy + 2) * 5 + ox + 2
+    float weight;
+};
+constexpr int kSources = 9 * 25;  // ((a + 1) * 3 + b + 1) * 25 + (dy + 2) * 5 + dx + 2
+struct GalerkinTerms {
+    GalerkinTerm t[kSources * 4];
+    int first[kSources + 1];  // source k's terms: t[first[k]] .. t[first[k + 1] - 1]
+    // the free sheet's fine operator (L^2 between free points) in coarse form: exact, since every
+    // term is an integer times a power of 2 >= 1/16 and the sums stay below 2^48
+    double free_fine[kCoefficients];
+    GalerkinTerms() : t(), first(), free_fine() {
+        int count = 0;
+        for (int a = -1; a <= 1; a++)
+            for (int b = -1; b <= 1; b++) {
+                const double wi = (a != 0 ? 0.5 : 1.0) * (b != 0 ? 0.5 : 1.0);
+                for (int dy = -2; dy <= 2; dy++)
+                    for (int dx = -2; dx <= 2; dx++) {
+                        first[((a + 1) * 3 + b + 1) * 25 + (dy + 2) * 5 + dx + 2] = count;
+                        const Spread &sy = kSpread[a + dy + 3], &sx = kSpread[b + dx + 3];
+                        for (int ky = 0; ky < sy.count; ky++)
+                            for (int kx = 0; kx < sx.count; kx++) {
+                                const int target = (sy.to[ky] + 2) * 5 + sx.to[kx] + 2;
+                                const double w = wi * sy.weight * sx.weight;
+                                t[count++] = {static_cast<unsigned char>(target), static_cast<float>(w)};
+                                free_fine[target] += kL2[dy + 2][dx + 2] * w;
+                            }
+                    }
+            }
+        first[kSources] = count;
+    }
+};
+const GalerkinTerms kGalerkin;
+
+}  // namespace
+
+// Whether row (Y, X) of level l + 1 reads only entries of the free sheet's operator: no point of
+// level l within 3 of (2Y, 2X) (the fine points 2Y + a and their neighbours) is held (l = 0) or a
+// row other than that operator's (l > 0).
+bool StencilMultigrid::pristine_window(int l, int64_t Y, int64_t X) const {
+    const Level &L = lv_[static_cast<std::size_t>(l)];
+    const int64_t m = L.m;
+    const unsigned char *flag = l == 0 ? held_.data() : L.special.data();
+    for (int dy = -3; dy <= 3; dy++) {
+        const unsigned char *row = flag + wrap(2 * Y + dy, m) * m;
+        for (int dx = -3; dx <= 3; dx++)
+            if (row[wrap(2 * X + dx, m)]) return false;
+    }
+    return true;
+}
+
+// row (Y, X) of level l + 1's operator, P^T A_l P, and its weight.  From the fine grid: the free
+// sheet's row less the terms of the pairs with a held point (exact, as kGalerkin.free_fine is:
+// the same value as the sum of the free pairs' terms).  From a coarse grid: kGalerkin's terms of
+// the entries, summed in their order.  A row whose window is pristine is the free sheet's row of
+// its level, computed once (the same function of the same entries: the same bits) and copied.
 void StencilMultigrid::coarse_row(int l, int64_t Y, int64_t X) {
     const int64_t m = lv_[static_cast<std::size_t>(l)].m, mc = m / 2, mmc = mc * mc, p = Y * mc + X;
-    double acc[kCoefficients] = {};
-    for (int a = -1; a <= 1; a++)
-        for (int b = -1; b <= 1; b++) {
-            const double wi = (a != 0 ? 0.5 : 1.0) * (b != 0 ? 0.5 : 1.0);
-            const int64_t y = wrap(2 * Y + a, m), x = wrap(2 * X + b, m);
-            for (int dy = -2; dy <= 2; dy++)
-                for (int dx = -2; dx <= 2; dx++) {
-                    const double v = entry(l, y, x, dy, dx);
-                    if (v == 0.0) continue;
-                    const Spread &sy = kSpread[a + dy + 3], &sx = kSpread[b + dx + 3];
-                    for (int ky = 0; ky < sy.count; ky++)
-                        for (int kx = 0; kx < sx.count; kx++)
-                            acc[(sy.to[ky] + 2) * 5 + sx.to[kx] + 2] += wi * v * sy.weight * sx.weight;
-                }
-        }
     Level &next = lv_[static_cast<std::size_t>(l) + 1];
+    const bool pristine = pristine_window(l, Y, X);
+    if (pristine && next.has_free_row) {
+        for (int k = 0; k < kStored; k++) next.c.data()[k * mmc + p] = next.free_row[k];
+        next.dinv.data()[p] = next.free_row[kStored];
+        next.special.data()[p] = 0;
+        return;
+    }
+    double acc[kCoefficients];
+    if (l == 0) {
+        unsigned char w[7][7];  // the held set within 3 of (2Y, 2X)
+        for (int dy = -3; dy <= 3; dy++) {
+            const unsigned char *row = held_.data() + wrap(2 * Y + dy, m) * m;
+            for (int dx = -3; dx <= 3; dx++) w[dy + 3][dx + 3] = row[wrap(2 * X + dx, m)];
+        }
+        for (int k = 0; k < kCoefficients; k++) acc[k] = kGalerkin.free_fine[k];
+        if (!pristine)
+            for (int a = -1; a <= 1; a++)
+                for (int b = -1; b <= 1; b++)
+                    for (int dy = -2; dy <= 2; dy++)
+                        for (int dx = -2; dx <= 2; dx++) {
+                            const double v = kL2[dy + 2][dx + 2];
+                            if (v == 0.0 || !(w[a + 3][b + 3] | w[a + dy + 3][b + dx + 3])) continue;
+                            const int source = ((a + 1) * 3 + b + 1) * 25 + (dy + 2) * 5 + dx + 2;
+                            for (int k = kGalerkin.first[source]; k < kGalerkin.first[source + 1]; k++)
+                                acc[kGalerkin.t[k].target] -= v * static_cast<double>(kGalerkin.t[k].weight);
+                        }
+    } else {
+        double v[kSources];
+        for (int a = -1; a <= 1; a++)
+            for (int b = -1; b <= 1; b++) {
+                const int64_t y = wrap(2 * Y + a, m), x = wrap(2 * X + b, m);
+                double *vp = v + ((a + 1) * 3 + b + 1) * 25;
+                for (int dy = -2; dy <= 2; dy++)
+                    for (int dx = -2; dx <= 2; dx++) vp[(dy + 2) * 5 + dx + 2] = entry(l, y, x, dy, dx);
+            }
+        for (int k = 0; k < kCoefficients; k++) acc[k] = 0.0;
+        for (int source = 0; source < kSources; source++)
+            for (int k = kGalerkin.first[source]; k < kGalerkin.first[source + 1]; k++)
+                acc[kGalerkin.t[k].target] += v[source] * static_cast<double>(kGalerkin.t[k].weight);
+    }
     double s = 0.0;
     for (int k = 0; k < kCoefficients; k++) {
         const int dy = k / 5 - 2, dx = k % 5 - 2;
@@ -285,6 +371,12 @@ void StencilMultigrid::coarse_row(int l, int64_t Y, int64_t X) {
         s += std::fabs(acc[k]);
     }
     next.dinv.data()[p] = static_cast<float>(s > 0.0 ? 1.0 / s : 0.0);
+    next.special.data()[p] = pristine ? 0 : 1;
+    if (pristine) {
+        for (int k = 0; k < kStored; k++) next.free_row[k] = next.c.data()[k * mmc + p];
+        next.free_row[kStored] = next.dinv.data()[p];
+        next.has_free_row = true;
+    }
 }
 
 void StencilMultigrid::assemble() {

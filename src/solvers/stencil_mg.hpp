@@ -39,6 +39,11 @@ public:
     // points, each in order from 0, the blocks' sums added in order -- the same bits, without a
     // pass of its own over b and x.
     double apply_inverse(const double *b, double scale, double *x, int64_t block);
+    // Level l's operator entry between point (y, x) and its neighbour (y + dy, x + dx), |dy|, |dx|
+    // <= 2 (level 0: the fine stencil on the free points; the tests compare the coarse ones with a
+    // Galerkin product of their own).  follow() first.
+    double operator_entry(int l, int64_t y, int64_t x, int dy, int dx) const { return entry(l, y, x, dy, dx); }
+    int levels() const { return static_cast<int>(lv_.size()); }
 
 private:
     struct Level {
@@ -46,6 +51,9 @@ private:
         AlignedBuffer<float> c;                 // coarse levels: 13 planes of m^2, the forward offsets' (plane())
         AlignedBuffer<float> x, b, r, t, dinv;  // solution, right-hand side, residual, scratch, weights
         AlignedBuffer<unsigned char> dirty;     // rows to recompute (update())
+        AlignedBuffer<unsigned char> special;   // coarse levels: 1 where the row is not the free sheet's
+        float free_row[14] = {};                // the free sheet's row on this level: 13 entries, the weight
+        bool has_free_row = false;
     };
     enum Mode { kApply, kJacobi, kResidual };
     void apply_fine(const float *x, float *y, const float *b, const float *dinv, Mode mode) const;
@@ -58,6 +66,7 @@ private:
     void cycle(int l, bool started = false);
     double entry(int l, int64_t y, int64_t x, int dy, int dx) const;
     void fine_weight(int64_t y, int64_t x);
+    bool pristine_window(int l, int64_t Y, int64_t X) const;
     void coarse_row(int l, int64_t Y, int64_t X);
     void assemble();
     void update();

@@ -22,6 +22,12 @@
 //    and double (check_free_part).
 // 4. The cycle's inverse and the dot b.x it sums as it writes x: the grid's sum_points bits
 //    (check_inverse_dot).
+// 5. The cycle's coarse operators against a Galerkin product P^T A P the test forms itself (P the
+//    bilinear prolongation evaluated from its formula, A the fine L^2 between free points, then
+//    the stored coarse operator one level down), for held sets with wide free regions (where the
+//    library copies the free sheet's row) and dense ones; and a held set reached by small changes
+//    (rows recomputed where they reach) against one assembled whole, bit for bit
+//    (check_coarse_operators).
 #include <algorithm>
 #include <cinttypes>
 #include <cmath>
@@ -246,6 +252,114 @@ void check_inverse_dot() {
     expect(fused > 0.0 && same_bits(fused, apart), "the cycle's b.x is sum_points' b.x bit for bit (4 blocks, 2 threads)");
 }
 
+// The bilinear prolongation's weight between fine index r and coarse index R on a periodic line
+// of m fine points: 1 at r = 2R, 1/2 at r = 2R +- 1, else 0.
+double hat(int64_t r, int64_t R, int64_t m) {
+    int64_t d = ((r - 2 * R) % m + m) % m;
+    if (d > m / 2) d -= m;
+    return d == 0 ? 1.0 : (d == 1 || d == -1) ? 0.5 : 0.0;
+}
+
+// Level l + 1's entry (Y, X) -> (Y + oy, X + ox) as sum P(r, I) A_l(r, r') P(r', I + O) over the
+// fine points r around 2I and their neighbours r' (A_l read from the multigrid one level down:
+// l = 0 the fine stencil on the free points, else the stored operator).
+double galerkin(const gfmd::StencilMultigrid &mg, int l, int64_t m, int64_t Y, int64_t X, int oy, int ox) {
+    const int64_t mc = m / 2;
+    double s = 0.0;
+    for (int64_t ry = 2 * Y - 1; ry <= 2 * Y + 1; ++ry)
+        for (int64_t rx = 2 * X - 1; rx <= 2 * X + 1; ++rx) {
+            const double pi = hat(ry, Y, m) * hat(rx, X, m);
+            const int64_t y = (ry + m) % m, x = (rx + m) % m;
+            for (int dy = -2; dy <= 2; ++dy)
+                for (int dx = -2; dx <= 2; ++dx) {
+                    const double pj = hat(ry + dy, (Y + oy + mc) % mc, m) * hat(rx + dx, (X + ox + mc) % mc, m);
+                    if (pj != 0.0) s += pi * mg.operator_entry(l, y, x, dy, dx) * pj;
+                }
+        }
+    return s;
+}
+
+// The largest difference between the multigrid's coarse entries and galerkin()'s, relative to
+// the largest entry of each level, over every level below the fine grid.
+double galerkin_error(const gfmd::StencilMultigrid &mg, int64_t n) {
+    double worst = 0.0;
+    int64_t m = n;
+    for (int l = 0; l + 1 < mg.levels(); ++l, m /= 2) {
+        const int64_t mc = m / 2;
+        double top = 0.0, diff = 0.0;
+        for (int64_t Y = 0; Y < mc; ++Y)
+            for (int64_t X = 0; X < mc; ++X)
+                for (int oy = -2; oy <= 2; ++oy)
+                    for (int ox = -2; ox <= 2; ++ox) {
+                        const double want = galerkin(mg, l, m, Y, X, oy, ox);
+                        top = std::max(top, std::fabs(want));
+                        diff = std::max(diff, std::fabs(want - mg.operator_entry(l + 1, Y, X, oy, ox)));
+                    }
+        worst = std::max(worst, top > 0.0 ? diff / top : diff);
+    }
+    return worst;
+}
+
+void check_coarse_operators() {
+    using namespace gfmd;
+    const int64_t n = 64, points = n * n;
+    uint64_t state = 777;
+    const auto next = [&] {
+        state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+        return static_cast<double>(state >> 11) * 0x1.0p-53;
+    };
+    // a few discs (wide free regions between them) and a held set of a quarter of the points
+    std::vector<unsigned char> discs(static_cast<std::size_t>(points)), dense(discs.size());
+    for (int k = 0; k < 6; ++k) {
+        const double cy = next() * n, cx = next() * n, r = 1.0 + 3.0 * next();
+        for (int64_t y = 0; y < n; ++y)
+            for (int64_t x = 0; x < n; ++x) {
+                const double ddy = std::remainder(y - cy, static_cast<double>(n)), ddx = std::remainder(x - cx, static_cast<double>(n));
+                if (ddy * ddy + ddx * ddx <= r * r) discs[y * n + x] = 1;
+            }
+    }
+    for (auto &h : dense) h = next() < 0.25 ? 1 : 0;
+    char what[160];
+    // the fine level's and coarse levels' products: exact at the first level (integers times
+    // powers of 2), then float entries (relative rounding 6e-8 each, 25 x 9 terms of one sign
+    // at most): 1e-6 of the level's largest entry
+    for (const auto *held : {&discs, &dense}) {
+        StencilMultigrid mg(n);
+        mg.follow(held->data());
+        const double err = galerkin_error(mg, n);
+        std::snprintf(what, sizeof what, "coarse operators = the test's P^T A P (%s held set): %.1e of the largest entry",
+                      held == &discs ? "discs" : "dense", err);
+        expect(err < 1e-6, what);
+    }
+    // the discs grown a point at a time (the rows they reach recomputed) against a whole assembly
+    // of the last set: every entry and a V-cycle bit for bit
+    StencilMultigrid grown(n);
+    std::vector<unsigned char> held = discs;
+    grown.follow(held.data());
+    for (int k = 0; k < 40; ++k) {
+        held[static_cast<std::size_t>(next() * static_cast<double>(points))] ^= 1;
+        grown.follow(held.data());
+    }
+    StencilMultigrid whole(n);
+    whole.follow(held.data());
+    bool same = true;
+    int64_t m = n;
+    for (int l = 0; l < whole.levels(); ++l, m /= 2)
+        for (int64_t y = 0; y < m; ++y)
+            for (int64_t x = 0; x < m; ++x)
+                for (int dy = -2; dy <= 2; ++dy)
+                    for (int dx = -2; dx <= 2; ++dx)
+                        same = same && same_bits(grown.operator_entry(l, y, x, dy, dx), whole.operator_entry(l, y, x, dy, dx));
+    expect(same, "40 single-point changes of the held set: every level's entries = a whole assembly's, bit for bit");
+    std::vector<double> b(static_cast<std::size_t>(points)), xa(b.size()), xb(b.size());
+    for (int64_t i = 0; i < points; ++i) b[i] = held[i] ? 0.0 : next() - 0.5;
+    const double da = grown.apply_inverse(b.data(), 2.0, xa.data(), points);
+    const double db = whole.apply_inverse(b.data(), 2.0, xb.data(), points);
+    expect(same_bits(da, db) && std::memcmp(xa.data(), xb.data(), xa.size() * sizeof(double)) == 0,
+           "... and their V-cycles, bit for bit");
+    expect(galerkin_error(grown, n) < 1e-6, "... and = the test's P^T A P");
+}
+
 }  // namespace
 
 int main() {
@@ -253,6 +367,7 @@ int main() {
     check_cg_safety_net();
     check_free_part();
     check_inverse_dot();
+    check_coarse_operators();
     if (failures > 0) {
         std::printf("test_solvers: %d failure(s)\n", failures);
         return 1;
