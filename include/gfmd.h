@@ -289,10 +289,15 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  * - GFMD_SOLVER_NEWTON: the active-set Newton method for thin sheets on a fluid foundation.  A step
  *   holds the points the wall holds and solves for the others by CG preconditioned with a
  *   multigrid cycle of the thin-plate stencil, then moves to max(h, z + alpha d), alpha halved
- *   until the energy falls enough; one "step" is one Newton step (about 10-20 FFT pairs and
- *   cycles; a flat start's first steps may take up to 500 inner iterations: start from a deformed
- *   surface or coarser grids, as the default does).  With adhesion its CG adds the adhesive law's
- *   curvature within a trust region |d| <= R (Steihaug), R = rho after a restart, doubled after a
+ *   until the energy falls enough; one "step" is one Newton step (at most 10 CG iterations, each
+ *   an FFT pair and a cycle, and a forward transform per halving).  From a flat surface (a first
+ *   load) a call that steps first relaxes the body on coarser grids, as gfmd_relax_multilevel()
+ *   does: the grid halved while it keeps 64 points a side, at most 3 times, each grid to 1e-6 in
+ *   at most 1000 steps; steps_taken counts this grid's steps only.  gfmd_step() and a relax in
+ *   chunks make the same start and steps as one call; the coarse grids (a third of this grid's
+ *   points together) are freed when the start ends (GFMD_ERR_NOMEM, nothing changed, if they
+ *   cannot be had).  An adhesive sheet with several equilibria may end in another one than
+ *   without the start.  With adhesion its CG adds the adhesive law's curvature within a trust region |d| <= R (Steihaug), R = rho after a restart, doubled after a
  *   full step to its edge, set to the step taken after a shortened one, never below 0.3 rho; R is
  *   solver state.  Results do not depend on the thread count.  It takes a layer on a fluid
  *   foundation under pressure control on one process, on a square grid of square cells whose side

@@ -40,6 +40,7 @@ void copy_shared_modes(const FftGrid &from, const std::complex<double> *in, cons
 std::unique_ptr<Simulation> Simulation::coarsened() {
     auto c = std::make_unique<Simulation>(grid_.nx() / 2, grid_.ny() / 2, grid_.lx(), grid_.ly(), grid_.threads(),
                                           GFMD_PLANNER_ESTIMATE, grid_.distribution());
+    c->nested_ = true;  // its relax is part of this grid's start: no start of its own
     c->params_ = params_;
     // the Newton solver where the coarse grid's cycle has levels enough, the default's choice below
     if (params_.solver == GFMD_SOLVER_NEWTON && *newton_refusal(c->grid_, params_) != '\0')
@@ -62,25 +63,11 @@ std::unique_ptr<Simulation> Simulation::coarsened() {
     return c;
 }
 
-bool Simulation::relax_multilevel(double tol, int64_t max_steps, int levels, int64_t &steps_taken,
-                                  int64_t &coarse_steps) {
-    if (levels < 1) fail(GFMD_ERR_INVALID_ARG, "levels must be >= 1, got " + std::to_string(levels));
-    if (levels > 1) require_periodic("the multilevel start (levels > 1)");
-    if (levels > 1 && plastic_)
-        fail(GFMD_ERR_STATE, "the multilevel start does not take a hardness (a coarse grid cannot yield as the fine one); "
-                             "use gfmd_relax or levels = 1");
-    const int64_t factor = int64_t{1} << std::min(levels - 1, 40);
-    // levels = 1 is relax() on any grid (no coarse grid to fit: a 64 x 6 grid was refused)
-    const bool fits = levels <= 41 && grid_.nx() % factor == 0 && grid_.ny() % factor == 0 &&
-                      grid_.nx() / factor >= kMinCoarse && grid_.ny() / factor >= kMinCoarse;
-    if (levels > 1 && !fits)
-        fail(GFMD_ERR_INVALID_ARG, std::to_string(levels) + " levels need nx and ny divisible by " +
-                                       std::to_string(factor) + " with at least " + std::to_string(kMinCoarse) +
-                                       " points a side on the coarsest grid; the grid is " +
-                                       std::to_string(grid_.nx()) + " x " + std::to_string(grid_.ny()));
-    coarse_steps = 0;
-    if (levels == 1) return relax(tol, max_steps, steps_taken);
-    undo_.save(fields_);  // a failure below restores the state of the call's start
+// The surface relaxed on the grid coarsened levels - 1 times (each grid to tol, at most max_steps
+// steps, started from the next coarser one), interpolated to this grid and lifted onto the
+// substrate, at rest.  The caller has saved the state in undo_: a failure restores it (and the
+// solver's state) and throws.
+void Simulation::coarse_start(double tol, int64_t max_steps, int levels, int64_t &coarse_steps) {
     const std::vector<double> solver_state = solver_->state();
     try {
         auto c = coarsened();
@@ -101,6 +88,36 @@ bool Simulation::relax_multilevel(double tol, int64_t max_steps, int levels, int
     fields_.lift_at_rest(grid_);
     apply_control();
     refresh_forces();
+}
+
+int Simulation::newton_start_levels() const {
+    if (active_solver_ != GFMD_SOLVER_NEWTON || nested_ || plastic_ || free()) return 1;
+    int levels = 1;
+    while (levels < kNewtonStartLevels && (grid_.nx() >> levels) >= kNewtonCoarsest) ++levels;
+    return levels > 1 && surface_flat() ? levels : 1;
+}
+
+bool Simulation::relax_multilevel(double tol, int64_t max_steps, int levels, int64_t &steps_taken,
+                                  int64_t &coarse_steps) {
+    if (levels < 1) fail(GFMD_ERR_INVALID_ARG, "levels must be >= 1, got " + std::to_string(levels));
+    if (levels > 1) require_periodic("the multilevel start (levels > 1)");
+    if (levels > 1 && plastic_)
+        fail(GFMD_ERR_STATE, "the multilevel start does not take a hardness (a coarse grid cannot yield as the fine one); "
+                             "use gfmd_relax or levels = 1");
+    const int64_t factor = int64_t{1} << std::min(levels - 1, 40);
+    // levels = 1 is relax() on any grid (no coarse grid to fit: a 64 x 6 grid was refused)
+    const bool fits = levels <= 41 && grid_.nx() % factor == 0 && grid_.ny() % factor == 0 &&
+                      grid_.nx() / factor >= kMinCoarse && grid_.ny() / factor >= kMinCoarse;
+    if (levels > 1 && !fits)
+        fail(GFMD_ERR_INVALID_ARG, std::to_string(levels) + " levels need nx and ny divisible by " +
+                                       std::to_string(factor) + " with at least " + std::to_string(kMinCoarse) +
+                                       " points a side on the coarsest grid; the grid is " +
+                                       std::to_string(grid_.nx()) + " x " + std::to_string(grid_.ny()));
+    coarse_steps = 0;
+    if (levels == 1) return relax(tol, max_steps, steps_taken);
+    undo_.save(fields_);  // a failure below restores the state of the call's start
+    const std::vector<double> solver_state = solver_->state();
+    coarse_start(tol, max_steps, levels, coarse_steps);
     // This grid now starts from a deformed surface, not the one the solver was chosen for: the
     // default chooses again (from 2048^2 on, a layer on a fluid foundation without adhesion takes
     // the approach then FIRE there instead of the CG of a flat start).  The call's solver is kept,

@@ -665,11 +665,21 @@ bool Simulation::relax_from(double tol, int64_t max_steps, int64_t &steps_taken,
     const std::vector<double> solver_state = call_start ? *call_start : solver_->state();
     StepContext c{grid_, params_, body_, dynamics_, forces_, fields_};
     steps_taken = 0;
+    // The Newton method from a flat surface starts on coarser grids (newton_start_levels), before
+    // its first step: a function of the state alone, so that a call in chunks, gfmd_step and one
+    // call share the trajectory.
+    bool started = call_start != nullptr;
     // The forces are evaluated after every step the solver asks the test for, and after the
     // last step of the call (between calls they always describe z); a solver that asks only
     // every few steps is tested only there, so one call and a relax in chunks stop alike.
     while (!solver_->at_check(params_) || forces_.residual > tol) {
         if (steps_taken == max_steps) return false;
+        if (!started) {
+            started = true;
+            const int levels = newton_start_levels();
+            int64_t coarse = 0;
+            if (levels > 1) coarse_start(kNewtonStartTol, kNewtonStartSteps, levels, coarse);
+        }
         if (plastic_) release(grid_, params_, *plastic_, fields_);
         solver_->advance(c);
         apply_control();

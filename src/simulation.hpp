@@ -130,6 +130,18 @@ private:
     bool relax_from(double tol, int64_t max_steps, int64_t &steps_taken, const std::vector<double> *call_start);
     // This body on the grid coarsened by 2, substrate and surface filtered to it, at rest
     std::unique_ptr<Simulation> coarsened();  // uses this grid's work array
+    void coarse_start(double tol, int64_t max_steps, int levels, int64_t &coarse_steps);
+    // The Newton method's start from a flat surface: the levels of the multilevel start relax()
+    // makes first (1: none).  From flat the first Newton steps mostly find the long waves' contacts
+    // again and again; on coarser grids they are cheap.  Each coarse grid relaxed to
+    // kNewtonStartTol, at most kNewtonStartSteps steps, the coarsest kNewtonCoarsest points a side
+    // or more, at most kNewtonStartLevels levels (docs/decisions.md, "The active-set Newton method").
+    int newton_start_levels() const;
+    static constexpr int kNewtonStartLevels = 4;
+    static constexpr int64_t kNewtonCoarsest = 64;
+    static constexpr double kNewtonStartTol = 1e-6;
+    static constexpr int64_t kNewtonStartSteps = 1000;
+    bool nested_ = false;  // a coarse grid of a multilevel start
     template <class Apply, class Undo>
     void change(const char *what, Apply &&apply, Undo &&undo);
     void change_body(const char *what, const Params &p);

@@ -46,7 +46,7 @@ struct ChoiceRule {
     // the Newton method, with and without adhesion
     double newton_points = 1024.0 * 1024.0;  // N from which it beats FIRE on the thin sheets
     double newton_area = 0.45;         // A/A0 below which it does (the last measured load, 0.4, and a margin)
-    double newton_flat_area = 0.01;    // A/A0 below which it wins a thin sheet's first load from flat
+    double newton_flat_area = 0.05;    // A/A0 below which it wins a thin sheet's first load from flat
     // pressure control with adhesion, layer on a fluid foundation
     double adhesive_thin = 6.0;        // min(q_max w, 2 sqrt(2) q_s w) below which the adhesive CG loses
     double adhesive_thinner = 4.0;     // the same, below which mass weighting wins at every low load

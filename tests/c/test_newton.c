@@ -1,6 +1,8 @@
 /* GFMD_SOLVER_NEWTON, the active-set Newton method for thin sheets: without adhesion it must end
  * where the library's CG ends (a second algorithm: the same convex problem, the same test), from a
- * flat start, on a continuing load and from coarser grids; with and without adhesion repeat bit for
+ * flat start (at 128^2 the start on coarser grids it makes there, which must also be
+ * gfmd_relax_multilevel's and the same in chunks, stepped or in one call, and fail without memory
+ * changing nothing), on a continuing load and from coarser grids; with and without adhesion repeat bit for
  * bit across thread counts and through a checkpoint (with adhesion its trust region's radius is
  * state); and refuse, with GFMD_ERR_STATE and nothing changed, every body and grid it does not
  * take.  Its adhesive equilibria against the energy and FIRE's: test_adhesion (adhesion_newton).
@@ -109,6 +111,48 @@ static void multilevel_start(void **state) {
     same_equilibrium(flat, ml, N);
     gfmd_sim_destroy(&flat);
     gfmd_sim_destroy(&ml);
+}
+
+/* From a flat surface the method starts from coarser grids (gfmd.h): at 128^2 one of 64^2, each
+ * relaxed to 1e-6, so that a relax to 1e-6 is gfmd_relax_multilevel's with two levels, bit for
+ * bit, steps too; it ends where the CG ends; and a call in chunks or gfmd_step first makes the
+ * same start and the same steps as one call. */
+static void flat_start_from_coarser_grids(void **state) {
+    (void)state;
+    const int64_t n = 128;
+    gfmd_sim *one = make(n, 0.352, 0.01, 1, GFMD_SOLVER_NEWTON), *ml = make(n, 0.352, 0.01, 1, GFMD_SOLVER_NEWTON),
+             *chunks = make(n, 0.352, 0.01, 1, GFMD_SOLVER_NEWTON), *stepped = make(n, 0.352, 0.01, 1, GFMD_SOLVER_NEWTON),
+             *cg = make(n, 0.352, 0.01, 1, GFMD_SOLVER_CG);
+    int64_t s_one = 0, s_ml = 0, coarse = 0, s_a = 0, s_b = 0, s_st = 0;
+    TS_OK(one, gfmd_relax(one, 1e-6, 10000, &s_one));
+    TS_OK(ml, gfmd_relax_multilevel(ml, 1e-6, 10000, 2, &s_ml, &coarse));
+    print_message("from flat: %lld steps after the start; multilevel %lld + %lld coarse\n", (long long)s_one,
+                  (long long)s_ml, (long long)coarse);
+    assert_true(coarse > 0 && s_ml == s_one);
+    double *z1 = surface(one, n), *z2 = surface(ml, n);
+    assert_memory_equal(z1, z2, (size_t)(n * n) * sizeof(double));
+    /* in chunks: 3 steps (not converged), then the rest; 3 steps, then the rest */
+    assert_int_equal(gfmd_relax(chunks, 1e-6, 3, &s_a), GFMD_ERR_NOT_CONVERGED);
+    TS_OK(chunks, gfmd_relax(chunks, 1e-6, 10000, &s_b));
+    TS_OK(stepped, gfmd_step(stepped, 3));
+    TS_OK(stepped, gfmd_relax(stepped, 1e-6, 10000, &s_st));
+    assert_true(s_a == 3 && s_a + s_b == s_one && 3 + s_st == s_one);
+    double *z3 = surface(chunks, n), *z4 = surface(stepped, n);
+    assert_memory_equal(z1, z3, (size_t)(n * n) * sizeof(double));
+    assert_memory_equal(z1, z4, (size_t)(n * n) * sizeof(double));
+    /* the equilibrium is the CG's (same_equilibrium's tolerances, both to 1e-10) */
+    TS_OK(one, gfmd_relax(one, 1e-10, 10000, &s_one));
+    TS_OK(cg, gfmd_relax(cg, 1e-10, 1000000, &s_b));
+    same_equilibrium(one, cg, n);
+    free(z1);
+    free(z2);
+    free(z3);
+    free(z4);
+    gfmd_sim_destroy(&one);
+    gfmd_sim_destroy(&ml);
+    gfmd_sim_destroy(&chunks);
+    gfmd_sim_destroy(&stepped);
+    gfmd_sim_destroy(&cg);
 }
 
 /* The same steps and bits on 1 and 2 threads (the cycle is serial, the sums in fixed blocks, the
@@ -306,16 +350,47 @@ static int without_memory_child(void) {
     return st == GFMD_ERR_NOMEM && after == before ? 0 : 1;
 }
 
+/* The start's coarse grids that cannot be had: the call fails with GFMD_ERR_NOMEM, the surface
+ * stays flat, the solver the Newton method, and the handle answers (in a child, as above). */
+static int start_without_memory_child(void) {
+    const int64_t n = 512;
+    gfmd_sim *s = NULL;
+    if (gfmd_sim_create_ex(n, n, (double)n, (double)n, 1, GFMD_PLANNER_ESTIMATE, &s) != GFMD_OK) return 3;
+    if (gfmd_generate_selfaffine(s, 0.8, n / 4.0, 4.0, 1.0, 11, GFMD_DIST_UNIFORM) != GFMD_OK ||
+        gfmd_set_green(s, GFMD_GREEN_LAYER_FLUID, 0.352) != GFMD_OK || gfmd_set_pressure(s, 1e-3) != GFMD_OK ||
+        gfmd_set_solver(s, GFMD_SOLVER_NEWTON) != GFMD_OK)
+        return 5;
+    double *z = malloc((size_t)(n * n) * sizeof *z);
+    if (z == NULL) return 6;
+    double r0 = 0.0, r1 = 0.0;
+    gfmd_get_residual(s, &r0);
+    if (ts_exhaust_memory() != 0) return 4;
+    const int32_t st = gfmd_relax(s, 1e-6, 10000, NULL);
+    int32_t solver = -1;
+    gfmd_get_solver(s, &solver);
+    gfmd_get_residual(s, &r1);
+    int flat = gfmd_get_surface(s, z) == GFMD_OK;
+    for (int64_t p = 0; flat && p < n * n; ++p) flat = z[p] == 0.0;
+    if (st != GFMD_ERR_NOMEM || solver != GFMD_SOLVER_NEWTON || !flat || r1 != r0)
+        fprintf(stderr, "relax from flat under the cap: status %d, solver %d, flat %d, residual %g -> %g\n", (int)st,
+                (int)solver, flat, r0, r1);
+    free(z);
+    gfmd_sim_destroy(&s);
+    return st == GFMD_ERR_NOMEM && solver == GFMD_SOLVER_NEWTON && flat && r1 == r0 ? 0 : 1;
+}
+
 static void without_memory(void **state) {
     (void)state;
     if (!ts_memory_cap_possible()) skip();
     ts_run_in_child(without_memory_child);
+    ts_run_in_child(start_without_memory_child);
 }
 
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(agrees_with_cg),
         cmocka_unit_test(multilevel_start),
+        cmocka_unit_test(flat_start_from_coarser_grids),
         cmocka_unit_test(deterministic),
         cmocka_unit_test(adhesive_descends),
         cmocka_unit_test(refuses_what_it_does_not_take),
