@@ -21,13 +21,15 @@
  *   gfmd_bench --multilevel [--sizes 256] [--widths 0.0625,0.125] [--sigma0 S] [--solver fire|mass]
  *                                gfmd_relax_multilevel with 1-4 levels from flat, to 1e-10
  *   gfmd_bench --first-load [--sizes 512,1024,2048] [--widths 0.0625,0.25] [--threads N] [--levels L] [--tol T]
- *              [--adhesion | --no-adhesion] [--levers fire,mass,multilevel,default]
+ *              [--adhesion | --no-adhesion] [--levers fire,mass,multilevel,default,cg,newton] [--areas 0.004,..]
  *                                a thin sheet's first load from flat, with and without adhesion
  *                                (--adhesion: with only; --no-adhesion: without only), by FIRE,
  *                                mass-weighted FIRE, the multilevel start (named by the solver
- *                                its finest grid took) and the default solver (--levers: those only),
- *                                beside a half-space on the same substrate and load (its seconds the
- *                                /hs column's unit)
+ *                                its finest grid took), the default solver, the CG and the Newton
+ *                                method (--levers: those only; default: the first four), at the
+ *                                loads of Persson's A/A0 = 0.004 (--areas: those), beside a
+ *                                half-space on the same substrate and load (its seconds the /hs
+ *                                column's unit)
  *   gfmd_bench --sweep [--sizes 2048] [--widths 0.25,1,100] [--threads N]
  *        [--adhesion] [--no-cg] [--verbose] [--from A] [--to A] [--columns fire,m+fire,mass,cg,newton,auto]
  *        [--substrate H,LS,R,SEED]
@@ -601,16 +603,19 @@ static int sweep_table(const double *sizes, int nsizes, const double *widths, in
 }
 
 /* --first-load: a thin sheet's first load from flat (the study's first load: Persson's A/A0 =
- * 0.004), without and with adhesion (gamma0 = 5e-4, rho = a), before and after each lever the
+ * 0.004, or each of `areas`), without and with adhesion (gamma0 = 5e-4, rho = a), before and after each lever the
  * library has: FIRE (before), mass-weighted FIRE, the multilevel start (--levels, 3 unless given;
- * the default solver on each grid), and the default solver (on thin sheets the preconditioned CG without
- * adhesion, the mass-weighted approach then FIRE, GFMD_SOLVER_APPROACH_THEN_FIRE, with).  Steps and seconds to the default tolerance, and
+ * the default solver on each grid), the default solver, the CG (with adhesion the adhesive CG)
+ * and the Newton method.  Steps and seconds to the default tolerance, and
  * (counted to the step, as in the main table: timed_relax_to) until A/A0 stays within 0.1 % of the
  * run's final value (the multilevel start: not counted, "-"); with --tol T every lever relaxes to
  * T instead and A/A0 is printed to 8 digits.  Mass-weighted FIRE is not run
  * with adhesion beyond 20 000 steps.  adhesive_only: the rows with adhesion only; levers: a bit
  * per lever to run (parse_levers), so that a 2048^2 comparison need not run all eight rows. */
-static const char *const lever_names[4] = {"fire", "mass", "multilevel", "default"};
+enum { LEVERS = 6 };
+static const char *const lever_names[LEVERS] = {"fire", "mass", "multilevel", "default", "cg", "newton"};
+static const int32_t lever_solvers[LEVERS] = {GFMD_SOLVER_FIRE, GFMD_SOLVER_MASS_WEIGHTED_FIRE, GFMD_SOLVER_AUTO,
+                                              GFMD_SOLVER_AUTO, GFMD_SOLVER_CG, GFMD_SOLVER_NEWTON};
 
 /* --levers LIST (first_load_table's levers, lever_names) and --columns LIST (sweep_table's
  * columns, sweep_names): a bit per name, in the order of names[0..count); -1 for a name not there
@@ -631,15 +636,18 @@ static int parse_names(const char *list, const char *const *names, int count) {
 }
 
 static int first_load_table(const double *sizes, int nsizes, const double *widths, int nwidths, int threads,
-                            int levels, double tol, int adhesive_only, int plain_only, int levers) {
+                            int levels, double tol, int adhesive_only, int plain_only, int levers,
+                            const double *areas, int nareas) {
     const int digits = tol > 0.0 ? 8 : 5;
     if (!(tol > 0.0)) tol = GFMD_DEFAULT_TOL;
-    printf("gfmd %s: a thin sheet's first load from flat (Persson A/A0 = 0.004), fluid foundation (w = 4 W a), "
+    printf("gfmd %s: a thin sheet's first load from flat at Persson's A/A0 (P), fluid foundation (w = 4 W a), "
            "H = 0.8, lambda_s = 4a, lambda_r = n a/8, g = 1, seed 2016, %d thread(s), tol %.0e\n",
            gfmd_version(), threads, tol);
-    printf("%5s %7s %4s %-13s | %8s | %7s %8s | %7s %8s | %s\n", "n", "W", "adh", "lever", "A/A0", "steps", "s",
+    printf("%5s %6s %7s %4s %-13s | %8s | %7s %8s | %7s %8s | %s\n", "n", "P", "W", "adh", "lever", "A/A0", "steps", "s",
            "to 0.1%", "s", "/hs");
-    for (int a = 0; a < nsizes; ++a) {
+    for (int a = 0; a < nsizes; ++a)
+    for (int pa = 0; pa < nareas; ++pa) {
+        const double persson = areas[pa];
         /* the reference: a half-space on the same substrate and grid at the same Persson A/A0, by
          * the default, from flat (W = 0 rows); "/hs" is each row's seconds over its one */
         double hs[2] = {0.0, 0.0};
@@ -648,7 +656,7 @@ static int first_load_table(const double *sizes, int nsizes, const double *width
             gfmd_sim *s = bench_body(n, 0.0, 0.01, GFMD_SOLVER_AUTO);
             int32_t st = gfmd_set_threads(s, threads);
             if (st == GFMD_OK && adh) st = gfmd_set_adhesion(s, 5e-4, 1.0);
-            const double load = persson_load(s, 0.004);
+            const double load = persson_load(s, persson);
             if (st == GFMD_OK) st = gfmd_reset(s);
             if (st != GFMD_OK) die(s, st, "first-load half-space");
             const gfmd_run g = timed_relax_to(s, GFMD_SOLVER_AUTO, load, NAN, tol, 4000000);
@@ -657,21 +665,21 @@ static int first_load_table(const double *sizes, int nsizes, const double *width
             hs[adh] = g.seconds;
             char what[32];
             snprintf(what, sizeof what, "hs %s", solver_name(g.active));
-            printf("%5d %7g %4s %-13s | %8.*f | %7lld %8.2f | %7s %8s | %.2f\n", n, 0.0, adh ? "yes" : "no", what, digits,
-                   area, (long long)g.steps, g.seconds, "-", "-", 1.0);
+            printf("%5d %6g %7g %4s %-13s | %8.*f | %7lld %8.2f | %7s %8s | %.2f\n", n, persson, 0.0, adh ? "yes" : "no",
+                   what, digits, area, (long long)g.steps, g.seconds, "-", "-", 1.0);
             fflush(stdout);
             gfmd_sim_destroy(&s);
         }
         for (int b = 0; b < nwidths; ++b)
             for (int adh = adhesive_only; adh < (plain_only ? 1 : 2); ++adh)
-                for (int lever = 0; lever < 4; ++lever) {
+                for (int lever = 0; lever < LEVERS; ++lever) {
                     if (!(levers & (1 << lever))) continue;
                     const int n = (int)sizes[a];
-                    const int32_t solver = lever == 0 ? GFMD_SOLVER_FIRE : lever == 1 ? GFMD_SOLVER_MASS_WEIGHTED_FIRE : GFMD_SOLVER_AUTO;
+                    const int32_t solver = lever_solvers[lever];
                     gfmd_sim *s = bench_body(n, widths[b], 0.01, solver);
                     int32_t st = gfmd_set_threads(s, threads);
                     if (st == GFMD_OK && adh) st = gfmd_set_adhesion(s, 5e-4, 1.0);
-                    const double load = persson_load(s, 0.004);
+                    const double load = persson_load(s, persson);
                     if (st == GFMD_OK) st = gfmd_reset(s);
                     if (st == GFMD_OK) st = gfmd_set_pressure(s, load);
                     if (st != GFMD_OK) die(s, st, "first-load body");
@@ -705,8 +713,9 @@ static int first_load_table(const double *sizes, int nsizes, const double *width
                     char what[32];
                     if (lever == 2) snprintf(what, sizeof what, "ml%d+%s", levels, solver_name(active));
                     else snprintf(what, sizeof what, "%s", solver_name(active));
-                    printf("%5d %7g %4s %-13s | %8.*f | %7s %8.2f | %7s %8s | %.1f\n", n, widths[b], adh ? "yes" : "no",
-                           what, digits, area, total, t, acc_steps, acc_s, hs[adh] > 0.0 ? t / hs[adh] : 0.0);
+                    printf("%5d %6g %7g %4s %-13s | %8.*f | %7s %8.2f | %7s %8s | %.1f\n", n, persson, widths[b],
+                           adh ? "yes" : "no", what, digits, area, total, t, acc_steps, acc_s,
+                           hs[adh] > 0.0 ? t / hs[adh] : 0.0);
                     fflush(stdout);
                     gfmd_sim_destroy(&s);
                 }
@@ -1153,7 +1162,8 @@ int main(int argc, char **argv) {
         no_adhesion = 0;
     double gap_rms = 0.0;
     int below_given = 0, positions = 0;
-    double loads[8], choice_loads[8], gaps[8];
+    double loads[8], choice_loads[8], gaps[8], areas[8] = {0.004};
+    int nareas = 1;
     int choices = 0, nchoice_loads = 0, ngaps = 0, random_bodies = 0;
     unsigned long long random_seed = 1;
     double cg_seconds = 120.0, sigma0 = 0.05, bonded_nu = NAN, first_tol = 0.0, sweep_from = 0.0, sweep_to = 1.0, below = 1.0;
@@ -1183,7 +1193,8 @@ int main(int argc, char **argv) {
             else
                 substrate_hurst = v[0], substrate_lambda_s = v[1], substrate_ratio = v[2], substrate_seed = (uint64_t)v[3];
         }
-        else if (!strcmp(argv[i], "--levers") && i + 1 < argc) levers = parse_names(argv[++i], lever_names, 4);
+        else if (!strcmp(argv[i], "--levers") && i + 1 < argc) levers = parse_names(argv[++i], lever_names, LEVERS);
+        else if (!strcmp(argv[i], "--areas") && i + 1 < argc) nareas = parse_list(argv[++i], areas, 8);
         else if (!strcmp(argv[i], "--tol") && i + 1 < argc) first_tol = atof(argv[++i]), first_tol = first_tol > 0.0 ? first_tol : -1.0;
         else if (!strcmp(argv[i], "--widths") && i + 1 < argc) nwidths = parse_list(argv[++i], widths, 8), widths_given = 1;
         else if (!strcmp(argv[i], "--threads") && i + 1 < argc) threads = atoi(argv[++i]), threads_given = 1;
@@ -1212,7 +1223,7 @@ int main(int argc, char **argv) {
         if (solver < 0 || !(sigma0 > 0.0) || levels < 1 || first_tol < 0.0 || levers < 0 || columns < 0 || random_bodies < 0 || !(below >= 0.0) || gap_rms < 0.0 || positions < 0) {
             fprintf(stderr, "usage: %s [--sizes 256,512,...] [--big] [--widths 0,0.5,1,4] [--threads N] "
                             "[--cg-seconds S] [--no-cg] [--no-alt] [--sigma0 S] [--solver auto|fire|mass|mass+fire|verlet|cg] "
-                            "[--bonded NU] [--adhesion] | --contention | --sweep [--verbose] [--from A] [--to A] [--columns fire,m+fire,mass,cg,newton,auto] [--substrate H,LS,R,SEED] | --loads L,.. | --choices L,.. [--gaps G,..] | --multilevel | --first-load [--levels L] [--tol T] [--levers fire,mass,multilevel,default] [--adhesion | --no-adhesion] | --big | --displacement [--below B | --gap R [--positions K]] [--no-adhesion] [--bonded NU] | --random K [--seed S]\n", argv[0]);
+                            "[--bonded NU] [--adhesion] | --contention | --sweep [--verbose] [--from A] [--to A] [--columns fire,m+fire,mass,cg,newton,auto] [--substrate H,LS,R,SEED] | --loads L,.. | --choices L,.. [--gaps G,..] | --multilevel | --first-load [--levels L] [--tol T] [--levers fire,mass,multilevel,default,cg,newton] [--areas A,..] [--adhesion | --no-adhesion] | --big | --displacement [--below B | --gap R [--positions K]] [--no-adhesion] [--bonded NU] | --random K [--seed S]\n", argv[0]);
             return 2;
         }
     }
@@ -1248,9 +1259,15 @@ int main(int argc, char **argv) {
     }
     if (first_load) {
         const double thin[2] = {0.0625, 0.25}, first_sizes[3] = {512, 1024, 2048};
+        int bad = nareas < 1;
+        for (int c = 0; c < nareas; ++c) bad |= !(areas[c] > 0.0 && areas[c] < 1.0);
+        if (bad) {
+            fprintf(stderr, "gfmd_bench: --areas takes Persson's A/A0 values in (0, 1)\n");
+            return 2;
+        }
         return first_load_table(sizes_given ? sizes : first_sizes, sizes_given ? nsizes : 3, widths_given ? widths : thin,
                                 widths_given ? nwidths : 2, threads < 1 ? 1 : threads, levels, first_tol, adhesion,
-                                no_adhesion, levers);
+                                no_adhesion, levers, areas, nareas);
     }
     if (displacement) {
         const double disp_sizes[1] = {256}, disp_widths[6] = {0.25, 1, 4, 8, 16, 0};
