@@ -116,38 +116,51 @@ static void multilevel_start(void **state) {
 /* From a flat surface the method starts from coarser grids (gfmd.h): at 128^2 one of 64^2, each
  * relaxed to 1e-6, so that a relax to 1e-6 is gfmd_relax_multilevel's with two levels, bit for
  * bit, steps too; it ends where the CG ends; and a call in chunks or gfmd_step first makes the
- * same start and the same steps as one call. */
+ * same start and the same steps as one call.  Under valgrind the chunks to 1e-2 alone (not the
+ * start's own tolerance: the multilevel comparison left out; without gfmd_step and the CG: 42 s
+ * there). */
 static void flat_start_from_coarser_grids(void **state) {
     (void)state;
     const int64_t n = 128;
     gfmd_sim *one = make(n, 0.352, 0.01, 1, GFMD_SOLVER_NEWTON), *ml = make(n, 0.352, 0.01, 1, GFMD_SOLVER_NEWTON),
              *chunks = make(n, 0.352, 0.01, 1, GFMD_SOLVER_NEWTON), *stepped = make(n, 0.352, 0.01, 1, GFMD_SOLVER_NEWTON),
              *cg = make(n, 0.352, 0.01, 1, GFMD_SOLVER_CG);
+    const int full = !ts_valgrind();
+    const double tol = full ? 1e-6 : 1e-2;
     int64_t s_one = 0, s_ml = 0, coarse = 0, s_a = 0, s_b = 0, s_st = 0;
-    TS_OK(one, gfmd_relax(one, 1e-6, 10000, &s_one));
-    TS_OK(ml, gfmd_relax_multilevel(ml, 1e-6, 10000, 2, &s_ml, &coarse));
-    print_message("from flat: %lld steps after the start; multilevel %lld + %lld coarse\n", (long long)s_one,
-                  (long long)s_ml, (long long)coarse);
-    assert_true(coarse > 0 && s_ml == s_one);
-    double *z1 = surface(one, n), *z2 = surface(ml, n);
-    assert_memory_equal(z1, z2, (size_t)(n * n) * sizeof(double));
+    TS_OK(one, gfmd_relax(one, tol, 10000, &s_one));
+    double *z1 = surface(one, n);
+    if (full) {
+        TS_OK(ml, gfmd_relax_multilevel(ml, tol, 10000, 2, &s_ml, &coarse));
+        print_message("from flat: %lld steps after the start; multilevel %lld + %lld coarse\n", (long long)s_one,
+                      (long long)s_ml, (long long)coarse);
+        assert_true(coarse > 0 && s_ml == s_one);
+        double *z2 = surface(ml, n);
+        assert_memory_equal(z1, z2, (size_t)(n * n) * sizeof(double));
+        free(z2);
+    }
     /* in chunks: 3 steps (not converged), then the rest; 3 steps, then the rest */
-    assert_int_equal(gfmd_relax(chunks, 1e-6, 3, &s_a), GFMD_ERR_NOT_CONVERGED);
-    TS_OK(chunks, gfmd_relax(chunks, 1e-6, 10000, &s_b));
-    TS_OK(stepped, gfmd_step(stepped, 3));
-    TS_OK(stepped, gfmd_relax(stepped, 1e-6, 10000, &s_st));
-    assert_true(s_a == 3 && s_a + s_b == s_one && 3 + s_st == s_one);
-    double *z3 = surface(chunks, n), *z4 = surface(stepped, n);
+    assert_int_equal(gfmd_relax(chunks, tol, 3, &s_a), GFMD_ERR_NOT_CONVERGED);
+    TS_OK(chunks, gfmd_relax(chunks, tol, 10000, &s_b));
+    assert_true(s_a == 3 && s_a + s_b == s_one);
+    double *z3 = surface(chunks, n);
     assert_memory_equal(z1, z3, (size_t)(n * n) * sizeof(double));
-    assert_memory_equal(z1, z4, (size_t)(n * n) * sizeof(double));
+    if (full) {
+        TS_OK(stepped, gfmd_step(stepped, 3));
+        TS_OK(stepped, gfmd_relax(stepped, tol, 10000, &s_st));
+        assert_true(3 + s_st == s_one);
+        double *z4 = surface(stepped, n);
+        assert_memory_equal(z1, z4, (size_t)(n * n) * sizeof(double));
+        free(z4);
+    }
     /* the equilibrium is the CG's (same_equilibrium's tolerances, both to 1e-10) */
-    TS_OK(one, gfmd_relax(one, 1e-10, 10000, &s_one));
-    TS_OK(cg, gfmd_relax(cg, 1e-10, 1000000, &s_b));
-    same_equilibrium(one, cg, n);
+    if (full) {
+        TS_OK(one, gfmd_relax(one, 1e-10, 10000, &s_one));
+        TS_OK(cg, gfmd_relax(cg, 1e-10, 1000000, &s_b));
+        same_equilibrium(one, cg, n);
+    }
     free(z1);
-    free(z2);
     free(z3);
-    free(z4);
     gfmd_sim_destroy(&one);
     gfmd_sim_destroy(&ml);
     gfmd_sim_destroy(&chunks);
