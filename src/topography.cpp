@@ -185,6 +185,7 @@ TextTable parse_table(const std::string &bytes) {
             p = q;
         }
         if (!numeric) continue;  // a header line before the data
+        if (row.empty()) continue;  // separators alone (";", ", ,"): a blank line, not a row of 0 values
         if (!data) {
             data = true;
             t.columns = static_cast<int64_t>(row.size());

@@ -146,6 +146,18 @@ static void text_matrix_and_xyz(void **state) {
     fprintf(f, "only words here\n");
     fclose(f);
     read_fails("topo_bad4.txt", GFMD_TOPO_AUTO, GFMD_ERR_FORMAT, "no line of numbers");
+    /* a line of separators alone is blank, not a row of no values (the fuzzer's: a 0 x 1 grid
+     * read as OK): between rows it is skipped, alone it leaves no numbers */
+    f = fopen("topo_separators.txt", "w");
+    fprintf(f, "1 2\n ;, \n3 4\n;\n");
+    fclose(f);
+    t = read_ok("topo_separators.txt", GFMD_TOPO_AUTO, 1.0);
+    expect_grid(t, 2, 2, 2.0, 2.0, GFMD_TOPO_MATRIX, 0, 0);
+    gfmd_topo_destroy(&t);
+    f = fopen("topo_bad5.txt", "w");
+    fprintf(f, "# Width: 2.5 um\n;\n");
+    fclose(f);
+    read_fails("topo_bad5.txt", GFMD_TOPO_AUTO, GFMD_ERR_FORMAT, "no line of numbers");
     read_fails("topo_bare.txt", GFMD_TOPO_XYZ, GFMD_ERR_FORMAT, "x y z");
     read_fails("no/such/topography.txt", GFMD_TOPO_AUTO, GFMD_ERR_IO, "cannot open");
 }
