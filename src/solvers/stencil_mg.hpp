@@ -8,9 +8,11 @@
 //                operator is symmetric), down to 16^2,
 //                assembled for a held set and then recomputed only in the rows its change reaches
 //                (the same bits as a whole assembly: each row is one function of the held set);
-//   the cycle    V(1,1): l1-Jacobi sweeps (weights 1 / sum_j |A_ij|, stable for any held set
-//                without a damping factor to estimate), the residual restricted, the next grid's
-//                cycle, its correction prolonged; 40 sweeps on the coarsest grid.
+//   the cycle    a V-cycle smoothed by Chebyshev's degree-2 polynomial in D^-1 A on [1/16, 1]
+//                before and after the coarse correction (D the l1 weights 1 / sum_j |A_ij|,
+//                which bound the spectrum by 1 for any held set: no eigenvalue to estimate), the
+//                residual restricted, the next grid's cycle, its correction prolonged; 40
+//                l1-Jacobi sweeps on the coarsest grid.
 // In single precision: a preconditioner's rounding of 1e-7 against a cycle's reduction of 0.8, and
 // half the memory traffic of doubles, which bounds the cycle.  Serial (a deterministic order);
 // square grids whose side is a power of 2 >= 32.
@@ -62,6 +64,8 @@ private:
     void restrict_to(int l, const float *f, float *c) const;
     void prolong_add(int l, const float *c, float *f) const;
     void jacobi(int l, int sweeps);
+    void chebyshev(int l, bool from_zero);
+    static float first_scale();  // x = first_scale() D^-1 b: the smoother's first iterate from 0
     // started: the caller has made the first sweep x = D^-1 b already
     void cycle(int l, bool started = false);
     double entry(int l, int64_t y, int64_t x, int dy, int dx) const;
