@@ -229,8 +229,8 @@ void StencilMultigrid::jacobi(int l, int sweeps) {
 
 // Chebyshev smoothing of degree kDegree for D^-1 A on [kLow, 1] (Saad's three-term recurrence,
 // theta and delta the interval's centre and half width), the direction in t, the residual in r.
-// from_zero: x holds D^-1 b / theta, the first iterate from x = 0 (first_scale); else x is the
-// current iterate.
+// from_zero: x and t hold D^-1 b / theta, the first iterate from x = 0 and its direction
+// (first_scale: written with b, no pass of their own); else x is the current iterate.
 void StencilMultigrid::chebyshev(int l, bool from_zero) {
     Level &L = lv_[static_cast<std::size_t>(l)];
     const auto mm = static_cast<std::size_t>(L.m * L.m);
@@ -238,9 +238,7 @@ void StencilMultigrid::chebyshev(int l, bool from_zero) {
     const float *dinv = L.dinv.data();
     const double theta = 0.5 * (1.0 + kLow), delta = 0.5 * (1.0 - kLow), sigma = theta / delta;
     double rho = 1.0 / sigma;
-    if (from_zero) {
-        for (std::size_t p = 0; p < mm; p++) d[p] = x[p];
-    } else {
+    if (!from_zero) {
         apply_mode(l, x, r, kResidual);
         const float c = static_cast<float>(1.0 / theta);
         for (std::size_t p = 0; p < mm; p++) {
@@ -262,7 +260,7 @@ void StencilMultigrid::chebyshev(int l, bool from_zero) {
 
 float StencilMultigrid::first_scale() { return static_cast<float>(2.0 / (1.0 + kLow)); }
 
-// One V-cycle for level l's right-hand side b from x = 0 (started: x = D^-1 b / theta already),
+// One V-cycle for level l's right-hand side b from x = 0 (started: x = t = D^-1 b / theta already),
 // into L.x: the smoother, the residual restricted, the next grid's cycle, its correction
 // prolonged, the smoother; on the coarsest grid kCoarsestSweeps l1-Jacobi sweeps.
 void StencilMultigrid::cycle(int l, bool started) {
@@ -277,7 +275,8 @@ void StencilMultigrid::cycle(int l, bool started) {
     }
     if (!started) {
         const float c = first_scale();
-        for (std::size_t p = 0; p < mm; p++) x[p] = c * dinv[p] * b[p];
+        float *d = L.t.data();
+        for (std::size_t p = 0; p < mm; p++) d[p] = x[p] = c * dinv[p] * b[p];
     }
     chebyshev(l, true);
     apply_mode(l, L.x.data(), L.r.data(), kResidual);
@@ -489,12 +488,12 @@ void StencilMultigrid::follow(const unsigned char *held) {
 double StencilMultigrid::apply_inverse(const double *b, double scale, double *x, int64_t block) {
     Level &L = lv_[0];
     const int64_t mm = L.m * L.m;
-    float *fb = L.b.data(), *fx0 = L.x.data();
+    float *fb = L.b.data(), *fx0 = L.x.data(), *fd0 = L.t.data();
     const float *dinv = L.dinv.data();
     const float first = first_scale();
-    for (int64_t p = 0; p < mm; p++) {  // b to floats and the first sweep in one pass
+    for (int64_t p = 0; p < mm; p++) {  // b to floats and the smoother's first iterate in one pass
         fb[p] = static_cast<float>(b[p]);
-        fx0[p] = first * dinv[p] * fb[p];
+        fd0[p] = fx0[p] = first * dinv[p] * fb[p];
     }
     cycle(0, true);
     const float *fx = L.x.data();
