@@ -297,8 +297,9 @@ GFMD_API int32_t gfmd_set_damping(gfmd_sim *s, double eta);
  *   chunks make the same start and steps as one call; the coarse grids (a third of this grid's
  *   points together) are freed when the start ends (GFMD_ERR_NOMEM, nothing changed, if they
  *   cannot be had).  An adhesive sheet with several equilibria may end in another one than
- *   without the start.  With adhesion its CG adds the adhesive law's curvature within a trust region |d| <= R (Steihaug), R = rho after a restart, doubled after a
- *   full step to its edge, set to the step taken after a shortened one, never below 0.3 rho; R is
+ *   without the start.  With adhesion its CG adds the adhesive law's curvature within a trust
+ *   region |d| <= R (Steihaug), R = rho after a restart, doubled after a full step to its edge,
+ *   set to the step taken after a shortened one, never below 0.3 rho; R is
  *   solver state.  Results do not depend on the thread count.  It takes a layer on a fluid
  *   foundation under pressure control on one process, on a square grid of square cells whose side
  *   is a power of 2 >= 32: GFMD_ERR_STATE, nothing changed, otherwise (and for a later call that
