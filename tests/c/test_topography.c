@@ -63,6 +63,12 @@ static void read_fails(const char *path, int32_t format, int32_t status, const c
     if (strstr(msg, needle) == NULL) fail_msg("%s: message '%s' lacks '%s'", path, msg, needle);
 }
 
+/* the same for a text file of these contents, written first */
+static void text_fails(const char *path, const char *text, int32_t status, const char *needle) {
+    write_bytes(path, text, strlen(text));
+    read_fails(path, GFMD_TOPO_AUTO, status, needle);
+}
+
 static void expect_grid(const gfmd_topo *t, int64_t nx, int64_t ny, double lx, double ly, int32_t format,
                         int32_t units, int64_t missing) {
     int64_t gx = 0, gy = 0, m = -1;
@@ -130,34 +136,18 @@ static void text_matrix_and_xyz(void **state) {
     gfmd_topo_destroy(&t);
 
     /* refused: a short row, a word among the data, an infinite value, no numbers at all */
-    f = fopen("topo_bad1.txt", "w");
-    fprintf(f, "1 2 3\n4 5\n");
-    fclose(f);
-    read_fails("topo_bad1.txt", GFMD_TOPO_AUTO, GFMD_ERR_FORMAT, "line 2 has 2 values");
-    f = fopen("topo_bad2.txt", "w");
-    fprintf(f, "1 2 3\n4 five 6\n");
-    fclose(f);
-    read_fails("topo_bad2.txt", GFMD_TOPO_AUTO, GFMD_ERR_FORMAT, "line 2, field 2");
-    f = fopen("topo_bad3.txt", "w");
-    fprintf(f, "1 2\n3 inf\n");
-    fclose(f);
-    read_fails("topo_bad3.txt", GFMD_TOPO_AUTO, GFMD_ERR_FORMAT, "infinite");
-    f = fopen("topo_bad4.txt", "w");
-    fprintf(f, "only words here\n");
-    fclose(f);
-    read_fails("topo_bad4.txt", GFMD_TOPO_AUTO, GFMD_ERR_FORMAT, "no line of numbers");
+    text_fails("topo_bad1.txt", "1 2 3\n4 5\n", GFMD_ERR_FORMAT, "line 2 has 2 values");
+    text_fails("topo_bad2.txt", "1 2 3\n4 five 6\n", GFMD_ERR_FORMAT, "line 2, field 2");
+    text_fails("topo_bad3.txt", "1 2\n3 inf\n", GFMD_ERR_FORMAT, "infinite");
+    text_fails("topo_bad4.txt", "only words here\n", GFMD_ERR_FORMAT, "no line of numbers");
     /* a line of separators alone is blank, not a row of no values (the fuzzer's: a 0 x 1 grid
      * read as OK): between rows it is skipped, alone it leaves no numbers */
-    f = fopen("topo_separators.txt", "w");
-    fprintf(f, "1 2\n ;, \n3 4\n;\n");
-    fclose(f);
+    const char *separated = "1 2\n ;, \n3 4\n;\n";
+    write_bytes("topo_separators.txt", separated, strlen(separated));
     t = read_ok("topo_separators.txt", GFMD_TOPO_AUTO, 1.0);
     expect_grid(t, 2, 2, 2.0, 2.0, GFMD_TOPO_MATRIX, 0, 0);
     gfmd_topo_destroy(&t);
-    f = fopen("topo_bad5.txt", "w");
-    fprintf(f, "# Width: 2.5 um\n;\n");
-    fclose(f);
-    read_fails("topo_bad5.txt", GFMD_TOPO_AUTO, GFMD_ERR_FORMAT, "no line of numbers");
+    text_fails("topo_bad5.txt", "# Width: 2.5 um\n;\n", GFMD_ERR_FORMAT, "no line of numbers");
     read_fails("topo_bare.txt", GFMD_TOPO_XYZ, GFMD_ERR_FORMAT, "x y z");
     read_fails("no/such/topography.txt", GFMD_TOPO_AUTO, GFMD_ERR_IO, "cannot open");
 }
